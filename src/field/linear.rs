@@ -1,0 +1,49 @@
+//! `Linear(@nodedata)`: barycentric interpolation of node values inside each cell (thesis B.2),
+//! for scalar and vector data. The gradient is constant per cell.
+
+use super::{InterpolatorInfo, Sources, same_shape};
+use crate::hypermesh::{ElementKind, RawData};
+use crate::mesh::barycentric_gradients;
+use crate::volume::Volume;
+
+pub const INFO: InterpolatorInfo = InterpolatorInfo {
+    interpolator: super::Interpolator::Linear,
+    name: "Linear",
+    summary: "node values, linear (barycentric) inside each tetrahedron; scalar or vector",
+    signature: "Linear(@nodedata)",
+    required: &[ElementKind::Node],
+    optional: &[],
+    check,
+};
+
+fn check(s: &Sources) -> Result<(), String> {
+    same_shape(s.ty, s.raw[0].ty, "Linear")
+}
+
+pub fn eval(vol: &Volume, raw: &RawData, cell: usize, lambda: &[f64; 4], out: &mut [f64]) {
+    let nodes = vol.mesh.tets()[cell];
+    let n = raw.ty.numbers();
+    for (c, o) in out.iter_mut().enumerate().take(n) {
+        *o = (0..4)
+            .map(|i| lambda[i] * raw.values.get(nodes[i] as usize * n + c))
+            .sum();
+    }
+}
+
+/// `∇f = Σ v_i ∇λ_i` for number `c` of each node value.
+pub fn gradient(vol: &Volume, raw: &RawData, cell: usize, c: usize) -> Option<[f64; 3]> {
+    let n = raw.ty.numbers();
+    if c >= n {
+        return None;
+    }
+    let grads = barycentric_gradients(&vol.mesh.corners(cell))?;
+    let nodes = vol.mesh.tets()[cell];
+    let mut g = [0.0; 3];
+    for i in 0..4 {
+        let v = raw.values.get(nodes[i] as usize * n + c);
+        for k in 0..3 {
+            g[k] += v * grads[i][k];
+        }
+    }
+    Some(g)
+}

@@ -1,0 +1,93 @@
+//! A streaming reader that hands out lines (for the header and ASCII blocks) and raw bytes (for
+//! BINARY blocks) while counting lines and the bytes still to come.
+//!
+//! Streaming rather than reading the whole file keeps peak memory near the size of the final mesh;
+//! knowing how many bytes remain lets block readers refuse absurd counts before allocating.
+
+use std::io::{self, BufRead};
+
+pub struct Input<R> {
+    reader: R,
+    /// Line number of the line most recently returned by [`Input::next_line`] (1-based).
+    pub line: usize,
+    buf: Vec<u8>,
+    remaining: Option<u64>,
+}
+
+impl<R: BufRead> Input<R> {
+    /// `size` is the total number of bytes the source holds, if known.
+    pub fn new(reader: R, size: Option<u64>) -> Self {
+        Input {
+            reader,
+            line: 0,
+            buf: Vec::with_capacity(256),
+            remaining: size,
+        }
+    }
+
+    /// Bytes not yet consumed, if the source size is known.
+    pub fn remaining(&self) -> Option<u64> {
+        self.remaining
+    }
+
+    fn consumed(&mut self, n: usize) {
+        if let Some(r) = &mut self.remaining {
+            *r = r.saturating_sub(n as u64);
+        }
+    }
+
+    /// The next line without its `\n` (and a trailing `\r`) with its line number, or `None` at
+    /// end of input.
+    pub fn next_line(&mut self) -> io::Result<Option<(usize, &[u8])>> {
+        self.buf.clear();
+        let n = self.reader.read_until(b'\n', &mut self.buf)?;
+        if n == 0 {
+            return Ok(None);
+        }
+        self.consumed(n);
+        self.line += 1;
+        if self.buf.last() == Some(&b'\n') {
+            self.buf.pop();
+        }
+        if self.buf.last() == Some(&b'\r') {
+            self.buf.pop();
+        }
+        Ok(Some((self.line, &self.buf)))
+    }
+
+    /// Reads up to `n` bytes, appending them to `out`; returns how many were read (fewer only at
+    /// end of input).
+    pub fn read_bytes(&mut self, n: usize, out: &mut Vec<u8>) -> io::Result<usize> {
+        let mut done = 0;
+        while done < n {
+            let avail = self.reader.fill_buf()?;
+            if avail.is_empty() {
+                break;
+            }
+            let take = avail.len().min(n - done);
+            out.extend_from_slice(&avail[..take]);
+            self.reader.consume(take);
+            self.consumed(take);
+            done += take;
+        }
+        Ok(done)
+    }
+
+    /// Consumes one `\n` if it is the next byte (the optional newline after a BINARY block).
+    /// It ends the line the binary data sat on, so the line count advances.
+    pub fn skip_newline(&mut self) -> io::Result<()> {
+        let avail = self.reader.fill_buf()?;
+        if avail.first() == Some(&b'\n') {
+            self.reader.consume(1);
+            self.consumed(1);
+            self.line += 1;
+        }
+        Ok(())
+    }
+
+    /// Advances the line counter by the newlines inside binary data, so that line numbers after
+    /// a BINARY block still match what an editor shows.
+    pub fn count_lines_in(&mut self, bytes: &[u8]) {
+        self.line += bytes.iter().filter(|&&b| b == b'\n').count();
+    }
+}

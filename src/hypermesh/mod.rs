@@ -1,0 +1,44 @@
+//! The HyperMesh file format for grids and data (thesis 6.1.1 and appendix B, SPEC §7).
+//!
+//! A file is a line-oriented ASCII header followed by data blocks introduced by `@marker` lines:
+//!
+//! ```text
+//! # HyperMesh 3D ASCII 0.7
+//! nNodes = 4
+//! nTetrahedra = 1
+//! Nodes { double[3] Coordinates } = @1
+//! Tetrahedra { int[4] Nodes } = @2
+//! NodeData { float } = @3
+//! Field "temperature" { float } = Linear(@3)
+//! @1
+//! 0 0 0
+//! 1 0 0
+//! 0 1 0
+//! 0 0 1
+//! @2
+//! 1 2 3 4
+//! @3
+//! 36.5
+//! 37
+//! 38.2
+//! 41
+//! ```
+//!
+//! In `BINARY` files the header stays ASCII and each block is raw big-endian data. Indices are
+//! 1-based. Triangles may be coded by nodes or edges, tetrahedra by nodes, edges or triangles;
+//! every coding is resolved to node indices and cross-checked. See [`read`] and [`write`].
+
+mod ascii;
+mod binary;
+pub mod header;
+mod input;
+mod materials;
+pub mod read;
+mod types;
+pub mod write;
+
+pub use header::Encoding;
+pub use materials::{Material, MaterialValue, Materials};
+pub use read::{Geometry, HyperMeshFile, read, read_bytes, read_file};
+pub use types::{DataType, ElementKind, RawData, ScalarType, Values};
+pub use write::{Layout, WriteOptions, save_subset, save_volume, write_volume};

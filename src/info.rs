@@ -1,0 +1,168 @@
+//! The report printed by `vorang info FILE`: counts, bounding box, boundary, orientation fixes,
+//! materials and every field with its type, interpolator and value range.
+
+use std::fmt::Write as _;
+
+use crate::field::Field;
+use crate::hypermesh::{HyperMeshFile, RawData};
+use crate::volume::{DataSet, Volume};
+
+/// A short float for reports (about 6 significant digits).
+pub fn num(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let a = v.abs();
+    if (1e-4..1e6).contains(&a) {
+        let int_digits = (a.log10().floor() as i32 + 1).max(0) as usize;
+        let decimals = 6usize.saturating_sub(int_digits);
+        let s = format!("{v:.decimals$}");
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s
+        }
+    } else {
+        format!("{v:.5e}")
+    }
+}
+
+fn source_desc(data: &DataSet, f: &Field) -> String {
+    f.sources
+        .iter()
+        .map(|&s| {
+            let r: &RawData = &data.raw[s];
+            match &r.denominator {
+                Some(d) => format!("{} {} {d}", r.kind.data_keyword(), r.ty),
+                None => format!("{} {}", r.kind.data_keyword(), r.ty),
+            }
+        })
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// The report for a volume file (geometry and data).
+pub fn describe_volume(vol: &Volume, encoding: &str) -> String {
+    let mut s = String::new();
+    let m = &vol.mesh;
+    let _ = writeln!(s, "file         {} (HyperMesh {encoding})", vol.source);
+    let _ = writeln!(s, "nodes        {}", m.node_count());
+    let _ = writeln!(s, "tetrahedra   {}", m.tet_count());
+    if let Some(e) = &vol.edges {
+        let _ = writeln!(s, "edges        {}", e.len());
+    }
+    if let Some(t) = &vol.triangles {
+        let _ = writeln!(s, "triangles    {}", t.len());
+    }
+    let _ = writeln!(s, "boundary     {} faces", m.boundary_face_count());
+    let _ = writeln!(s, "orientation  {} tetrahedra re-oriented", m.reoriented());
+    let b = m.bbox();
+    let _ = writeln!(
+        s,
+        "bounding box [{}, {}] × [{}, {}] × [{}, {}]",
+        num(b.min[0]),
+        num(b.max[0]),
+        num(b.min[1]),
+        num(b.max[1]),
+        num(b.min[2]),
+        num(b.max[2])
+    );
+    let c = b.center();
+    let _ = writeln!(s, "centre       {} {} {}", num(c[0]), num(c[1]), num(c[2]));
+    let (mut total, mut lo, mut hi) = (0.0, f64::INFINITY, 0.0f64);
+    for t in 0..m.tet_count() {
+        let v = m.tet_volume(t);
+        total += v;
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if m.tet_count() > 0 {
+        let _ = writeln!(
+            s,
+            "volume       {} (cells {} … {})",
+            num(total),
+            num(lo),
+            num(hi)
+        );
+    }
+    describe_data(&mut s, &vol.data, Some(vol));
+    s
+}
+
+/// The report for a data-only file.
+pub fn describe_data_file(file: &HyperMeshFile) -> String {
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        "file         {} (HyperMesh {} {}, data only)",
+        file.name,
+        file.encoding.keyword(),
+        file.version
+    );
+    for kind in crate::hypermesh::ElementKind::ALL {
+        if let Some(n) = file.data.counts[kind.index()] {
+            let _ = writeln!(s, "{:<12} {n}", kind.count_keyword());
+        }
+    }
+    describe_data(&mut s, &file.data, None);
+    s
+}
+
+fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {
+    if let Some(mats) = &data.materials {
+        let _ = writeln!(s, "materials    {}", mats.list.len());
+        for m in &mats.list {
+            let props: Vec<String> = m.props.iter().map(|(k, v)| format!("{k}={v}")).collect();
+            let _ = writeln!(s, "  {:>3} {:<16} {}", m.id, m.name, props.join(" "));
+        }
+    }
+    let _ = writeln!(
+        s,
+        "raw data     {} block{}",
+        data.raw.len(),
+        if data.raw.len() == 1 { "" } else { "s" }
+    );
+    let _ = writeln!(s, "fields       {}", data.fields.len());
+    for (i, f) in data.fields.iter().enumerate() {
+        let name = f
+            .name
+            .as_deref()
+            .map(|n| format!("\"{n}\" "))
+            .unwrap_or_default();
+        let denom = f
+            .denominator
+            .as_deref()
+            .map(|d| format!(" {d}"))
+            .unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "  {i}: {name}{{ {}{denom} }} = {}  [{}]",
+            f.ty,
+            f.interpolator.name(),
+            source_desc(data, f)
+        );
+        if let Some(range) = vol.and_then(|v| v.field_range(i)) {
+            let parts: Vec<String> = range
+                .iter()
+                .map(|(a, b)| format!("[{}, {}]", num(*a), num(*b)))
+                .collect();
+            let _ = writeln!(s, "     range {}", parts.join(" "));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::num;
+
+    #[test]
+    fn numbers_are_short() {
+        assert_eq!(num(0.0), "0");
+        assert_eq!(num(1.0), "1");
+        assert_eq!(num(0.5), "0.5");
+        assert_eq!(num(-2.25), "-2.25");
+        assert_eq!(num(123456.0), "123456");
+        assert_eq!(num(1.0 / 3.0), "0.333333");
+        assert_eq!(num(1e-7), "1.00000e-7");
+    }
+}

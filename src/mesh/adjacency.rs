@@ -1,0 +1,139 @@
+//! Face adjacency in linear time.
+//!
+//! Every face is keyed by its sorted node triple `(a < b < c)`. A counting sort on the smallest
+//! node `a` puts the faces of each node into one small bucket (≈ 24 faces per node in a typical
+//! mesh), and sorting each bucket by `(b, c)` makes matching faces adjacent. This avoids a hash
+//! map or a global sort of 4·n keys and runs in one pass over memory.
+
+use super::{MeshError, NO_NEIGHBOR};
+
+/// For each cell and face `i` (opposite node `i`): the neighbouring cell or [`NO_NEIGHBOR`].
+/// Fails if a face is shared by more than two cells.
+pub fn face_neighbors(node_count: usize, tets: &[[u32; 4]]) -> Result<Vec<[u32; 4]>, MeshError> {
+    let faces = tets.len() * 4;
+    // Count faces per smallest node.
+    let mut start = vec![0u32; node_count + 1];
+    for tet in tets {
+        for f in 0..4 {
+            start[min_node_except(tet, f) as usize + 1] += 1;
+        }
+    }
+    for i in 0..node_count {
+        start[i + 1] += start[i];
+    }
+    // Scatter face ids (cell·4 + face) into their buckets.
+    let mut order = vec![0u32; faces];
+    let mut fill = start.clone();
+    for (t, tet) in tets.iter().enumerate() {
+        for f in 0..4 {
+            let a = min_node_except(tet, f) as usize;
+            order[fill[a] as usize] = (t * 4 + f) as u32;
+            fill[a] += 1;
+        }
+    }
+    drop(fill);
+
+    let mut neighbors = vec![[NO_NEIGHBOR; 4]; tets.len()];
+    let mut bucket: Vec<(u64, u32)> = Vec::with_capacity(64);
+    for a in 0..node_count {
+        let ids = &order[start[a] as usize..start[a + 1] as usize];
+        if ids.len() < 2 {
+            continue;
+        }
+        bucket.clear();
+        bucket.extend(ids.iter().map(|&id| {
+            let (t, f) = (id as usize / 4, id as usize % 4);
+            let [_, b, c] = sorted_face(&tets[t], f);
+            ((u64::from(b) << 32) | u64::from(c), id)
+        }));
+        bucket.sort_unstable();
+        let mut i = 0;
+        while i < bucket.len() {
+            let mut j = i + 1;
+            while j < bucket.len() && bucket[j].0 == bucket[i].0 {
+                j += 1;
+            }
+            match j - i {
+                1 => {}
+                2 => {
+                    let (p, q) = (bucket[i].1 as usize, bucket[i + 1].1 as usize);
+                    neighbors[p / 4][p % 4] = (q / 4) as u32;
+                    neighbors[q / 4][q % 4] = (p / 4) as u32;
+                }
+                _ => {
+                    let mut ids: Vec<usize> =
+                        bucket[i..j].iter().map(|&(_, id)| id as usize).collect();
+                    ids.sort_unstable();
+                    let third = ids[2];
+                    return Err(MeshError::NonManifold {
+                        tet: third / 4,
+                        face: third % 4,
+                        others: [ids[0] / 4, ids[1] / 4],
+                    });
+                }
+            }
+            i = j;
+        }
+    }
+    Ok(neighbors)
+}
+
+#[inline]
+fn min_node_except(tet: &[u32; 4], f: usize) -> u32 {
+    let mut m = u32::MAX;
+    for (k, &n) in tet.iter().enumerate() {
+        if k != f && n < m {
+            m = n;
+        }
+    }
+    m
+}
+
+#[inline]
+fn sorted_face(tet: &[u32; 4], f: usize) -> [u32; 3] {
+    let mut v = [0u32; 3];
+    let mut k = 0;
+    for (i, &n) in tet.iter().enumerate() {
+        if i != f {
+            v[k] = n;
+            k += 1;
+        }
+    }
+    if v[0] > v[1] {
+        v.swap(0, 1);
+    }
+    if v[1] > v[2] {
+        v.swap(1, 2);
+    }
+    if v[0] > v[1] {
+        v.swap(0, 1);
+    }
+    v
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_tets_sharing_a_face() {
+        let tets = [[0, 1, 2, 3], [4, 1, 2, 3]];
+        let nb = face_neighbors(5, &tets).unwrap();
+        assert_eq!(nb[0], [1, NO_NEIGHBOR, NO_NEIGHBOR, NO_NEIGHBOR]);
+        assert_eq!(nb[1], [0, NO_NEIGHBOR, NO_NEIGHBOR, NO_NEIGHBOR]);
+    }
+
+    #[test]
+    fn three_tets_on_one_face_fail_naming_the_third() {
+        let tets = [[0, 1, 2, 3], [4, 1, 2, 3], [5, 3, 2, 1]];
+        let e = face_neighbors(6, &tets).unwrap_err();
+        assert_eq!(
+            e,
+            MeshError::NonManifold {
+                tet: 2,
+                face: 0,
+                others: [0, 1]
+            }
+        );
+    }
+}

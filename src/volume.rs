@@ -1,0 +1,455 @@
+//! The data volume (thesis: `VRxDataGrid`): a tetrahedral mesh together with its raw data and
+//! field distributions, as loaded by the `volume` command and extended by `data [+]`.
+
+use std::path::Path;
+
+use crate::error::{Error, ParseError, Warning};
+use crate::field::{Field, Interpolator, Origin};
+use crate::hypermesh::read::NONE;
+use crate::hypermesh::{
+    self, DataType, ElementKind, Geometry, HyperMeshFile, Materials, RawData, ScalarType,
+};
+use crate::mesh::TetMesh;
+
+/// Raw data and fields, with the element counts of the file they came from.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct DataSet {
+    pub materials: Option<Materials>,
+    /// Counts as declared in the file, indexed by [`ElementKind::index`].
+    pub counts: [Option<usize>; 5],
+    /// The line of each count, for messages.
+    pub count_lines: [Option<usize>; 5],
+    pub raw: Vec<RawData>,
+    pub fields: Vec<Field>,
+}
+
+/// A loaded volume.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Volume {
+    /// The file it was loaded from (as given).
+    pub source: String,
+    pub mesh: TetMesh,
+    pub coord_type: ScalarType,
+    pub edges: Option<Vec<[u32; 2]>>,
+    pub triangles: Option<Vec<[u32; 3]>>,
+    pub data: DataSet,
+    tet_edges: Option<Vec<[u32; 6]>>,
+}
+
+impl Volume {
+    /// Reads a HyperMesh file with geometry. Warnings (e.g. re-oriented cells) are returned,
+    /// not printed.
+    pub fn load(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
+        let file = hypermesh::read_file(path)?;
+        let warnings = file.warnings.clone();
+        Ok((Volume::from_file(file)?, warnings))
+    }
+
+    /// Builds a volume from a parsed file; fails for a data-only file.
+    pub fn from_file(file: HyperMeshFile) -> Result<Volume, ParseError> {
+        let Some(geometry) = file.geometry else {
+            return Err(ParseError::new(
+                &file.name,
+                1,
+                "this file has no tetrahedra: expected 'Nodes' and 'Tetrahedra' blocks (use 'data' to load a data-only file onto a volume)",
+            ));
+        };
+        Volume::new(file.name, geometry, file.data)
+    }
+
+    /// Assembles a volume and checks the fields that depend on the geometry (edge elements need
+    /// every edge of every cell).
+    pub fn new(source: String, geometry: Geometry, data: DataSet) -> Result<Volume, ParseError> {
+        let vol = Volume {
+            source,
+            mesh: geometry.mesh,
+            coord_type: geometry.coord_type,
+            edges: geometry.edges,
+            triangles: geometry.triangles,
+            data,
+            tet_edges: geometry.tet_edges,
+        };
+        for f in &vol.data.fields {
+            vol.check_field(f)?;
+        }
+        Ok(vol)
+    }
+
+    fn check_field(&self, f: &Field) -> Result<(), ParseError> {
+        let needs_edges = matches!(
+            f.interpolator,
+            Interpolator::EdgeElem | Interpolator::EdgeElemSar | Interpolator::HigherOrder
+        );
+        if needs_edges {
+            let err = |msg: String| ParseError::new(&f.origin.file, f.origin.line, msg);
+            let Some(te) = &self.tet_edges else {
+                return Err(err(format!(
+                    "{} needs the volume's edges: the grid has no 'Edges {{ int[2] FromTo }}' block",
+                    f.interpolator.name()
+                )));
+            };
+            if let Some((t, k)) = te
+                .iter()
+                .enumerate()
+                .find_map(|(t, e)| e.iter().position(|&x| x == NONE).map(|k| (t, k)))
+            {
+                let [i, j] = crate::mesh::EDGE_NODES[k];
+                let tet = self.mesh.tets()[t];
+                return Err(err(format!(
+                    "{} needs every edge of every tetrahedron in the Edges block; tetrahedron {} has no edge {}–{} there",
+                    f.interpolator.name(),
+                    t + 1,
+                    tet[i] + 1,
+                    tet[j] + 1
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// A volume without data around a validated mesh (coordinates written back as double).
+    pub fn from_mesh(source: impl Into<String>, mesh: TetMesh) -> Volume {
+        let mut data = DataSet::default();
+        data.counts[ElementKind::Node.index()] = Some(mesh.node_count());
+        data.counts[ElementKind::Tetrahedron.index()] = Some(mesh.tet_count());
+        Volume {
+            source: source.into(),
+            mesh,
+            coord_type: ScalarType::Double,
+            edges: None,
+            triangles: None,
+            data,
+            tet_edges: None,
+        }
+    }
+
+    /// Adds a raw data block; its number of elements must match the volume. Returns its index.
+    pub fn add_raw(&mut self, raw: RawData) -> Result<usize, Error> {
+        let want = match raw.kind {
+            ElementKind::Extra => raw.elements(),
+            kind => self.count(kind).ok_or_else(|| {
+                Error::Invalid(format!(
+                    "{} given, but the volume lists no {}s",
+                    kind.data_keyword(),
+                    kind.noun()
+                ))
+            })?,
+        };
+        if raw.elements() != want || raw.values.len() != want * raw.ty.numbers() {
+            return Err(Error::Invalid(format!(
+                "{} needs {want} elements of {}, found {} numbers",
+                raw.kind.data_keyword(),
+                raw.ty,
+                raw.values.len()
+            )));
+        }
+        self.data.raw.push(raw);
+        Ok(self.data.raw.len() - 1)
+    }
+
+    /// Declares a field over raw data blocks (checked as a file's `Field` line is). Returns its
+    /// number.
+    pub fn add_field(
+        &mut self,
+        name: Option<&str>,
+        ty: DataType,
+        interpolator: Interpolator,
+        sources: &[usize],
+    ) -> Result<usize, Error> {
+        let origin = Origin {
+            file: self.source.clone(),
+            line: 0,
+        };
+        let field = Field::build(
+            name.map(str::to_string),
+            ty,
+            None,
+            interpolator,
+            sources.to_vec(),
+            &self.data.raw,
+            self.data.materials.as_ref(),
+            origin,
+            &|k| format!("raw data block {}", sources[k]),
+        )
+        .map_err(Error::Invalid)?;
+        self.check_field(&field)
+            .map_err(|e| Error::Invalid(e.message))?;
+        self.data.fields.push(field);
+        Ok(self.data.fields.len() - 1)
+    }
+
+    /// The element count of a kind in this volume (`None` if the grid does not have such
+    /// elements listed).
+    pub fn count(&self, kind: ElementKind) -> Option<usize> {
+        match kind {
+            ElementKind::Node => Some(self.mesh.node_count()),
+            ElementKind::Tetrahedron => Some(self.mesh.tet_count()),
+            ElementKind::Edge => self.edges.as_ref().map(Vec::len),
+            ElementKind::Triangle => self.triangles.as_ref().map(Vec::len),
+            ElementKind::Extra => None,
+        }
+    }
+
+    /// A cell's six edges in [`crate::mesh::EDGE_NODES`] order: index into [`Volume::edges`]
+    /// and whether the file directs the edge against the local order. `None` without edges.
+    pub fn tet_edges(&self, cell: usize) -> Option<[(usize, bool); 6]> {
+        let e = self.tet_edges.as_ref()?.get(cell)?;
+        if e.contains(&NONE) {
+            return None;
+        }
+        Some(e.map(|x| ((x & !(1 << 31)) as usize, x & (1 << 31) != 0)))
+    }
+
+    pub fn field(&self, n: usize) -> Option<&Field> {
+        self.data.fields.get(n)
+    }
+
+    /// Loads a data-only file's fields onto this grid (`data file` replaces all fields,
+    /// `data + file` appends). Counts must match the grid; on any error nothing changes.
+    pub fn attach_data(&mut self, file: HyperMeshFile, append: bool) -> Result<(), ParseError> {
+        let mut data = file.data;
+        for kind in ElementKind::ALL {
+            let Some(n) = data.counts[kind.index()] else {
+                continue;
+            };
+            let line = data.count_lines[kind.index()].unwrap_or(1);
+            let uses = data.raw.iter().any(|r| r.kind == kind);
+            match self.count(kind) {
+                Some(have) if have != n => {
+                    return Err(ParseError::new(
+                        &file.name,
+                        line,
+                        format!(
+                            "{} = {n}, but the loaded grid has {have} {}s",
+                            kind.count_keyword(),
+                            kind.noun()
+                        ),
+                    ));
+                }
+                None if uses && kind != ElementKind::Extra => {
+                    return Err(ParseError::new(
+                        &file.name,
+                        line,
+                        format!(
+                            "this file has {} but the loaded grid lists no {}s",
+                            kind.data_keyword(),
+                            kind.noun()
+                        ),
+                    ));
+                }
+                _ => {}
+            }
+        }
+        if append {
+            if let (Some(a), Some(b)) = (&self.data.materials, &data.materials) {
+                if a != b {
+                    return Err(ParseError::new(
+                        &file.name,
+                        1,
+                        "its Materials block differs from the loaded volume's; 'data +' cannot merge two different material tables",
+                    ));
+                }
+            }
+            let offset = self.data.raw.len();
+            for f in &mut data.fields {
+                for s in &mut f.sources {
+                    *s += offset;
+                }
+            }
+            let mut merged = self.data.clone();
+            merged.materials = merged.materials.or(data.materials);
+            merged.raw.append(&mut data.raw);
+            merged.fields.append(&mut data.fields);
+            let candidate = std::mem::replace(&mut self.data, merged);
+            if let Err(e) = self.check_all_fields() {
+                self.data = candidate;
+                return Err(e);
+            }
+        } else {
+            data.materials = data.materials.or_else(|| self.data.materials.clone());
+            data.counts = self.data.counts;
+            data.count_lines = self.data.count_lines;
+            let previous = std::mem::replace(&mut self.data, data);
+            if let Err(e) = self.check_all_fields() {
+                self.data = previous;
+                return Err(e);
+            }
+        }
+        Ok(())
+    }
+
+    fn check_all_fields(&self) -> Result<(), ParseError> {
+        self.data
+            .fields
+            .iter()
+            .try_for_each(|f| self.check_field(f))
+    }
+
+    /// Per component: the smallest and largest value of field `n`, sampled at every cell's
+    /// corners and centroid (exact for Linear and Constant fields).
+    pub fn field_range(&self, n: usize) -> Option<Vec<(f64, f64)>> {
+        let f = self.field(n)?;
+        let k = f.components();
+        let mut range = vec![(f64::INFINITY, f64::NEG_INFINITY); k];
+        let mut out = vec![0.0; k];
+        let samples: [[f64; 4]; 5] = [
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+            [0.25; 4],
+        ];
+        for cell in 0..self.mesh.tet_count() {
+            let corners = self.mesh.corners(cell);
+            for l in &samples {
+                let p = [0, 1, 2].map(|d| (0..4).map(|i| l[i] * corners[i][d]).sum());
+                f.eval(self, cell, l, p, &mut out);
+                for (r, &v) in range.iter_mut().zip(&out) {
+                    r.0 = r.0.min(v);
+                    r.1 = r.1.max(v);
+                }
+            }
+        }
+        Some(range)
+    }
+}
+
+/// The cells of `vol` where Constant field `field` is not zero (any component), with the nodes,
+/// edges, triangles and data they use, renumbered in their original order (`save_subset`).
+pub fn subset(vol: &Volume, field: usize) -> Result<Volume, Error> {
+    let f = vol.field(field).ok_or_else(|| {
+        Error::Invalid(format!(
+            "save_subset: there is no field {field} (the volume has {} field{})",
+            vol.data.fields.len(),
+            if vol.data.fields.len() == 1 { "" } else { "s" }
+        ))
+    })?;
+    if f.interpolator != Interpolator::Constant {
+        return Err(Error::Invalid(format!(
+            "save_subset: field {field} is {}; the mask must be a Constant (per-cell) field",
+            f.interpolator.name()
+        )));
+    }
+    let mask = &vol.data.raw[f.sources[0]];
+    let n = mask.ty.numbers();
+    let cells: Vec<u32> = (0..vol.mesh.tet_count())
+        .filter(|&t| (0..n).any(|c| mask.values.get(t * n + c) != 0.0))
+        .map(|t| t as u32)
+        .collect();
+    if cells.is_empty() {
+        return Err(Error::Invalid(format!(
+            "save_subset: field {field} is zero on every cell; the subset would be empty"
+        )));
+    }
+    let tets = vol.mesh.tets();
+    // Old → new numbering of the nodes, edges and triangles the kept cells use.
+    let renumber = |used: Vec<bool>| -> (Vec<u32>, Vec<u32>) {
+        let mut map = vec![NONE; used.len()];
+        let mut kept = Vec::new();
+        for (i, u) in used.into_iter().enumerate() {
+            if u {
+                map[i] = kept.len() as u32;
+                kept.push(i as u32);
+            }
+        }
+        (map, kept)
+    };
+    let mut used_nodes = vec![false; vol.mesh.node_count()];
+    for &t in &cells {
+        for n in tets[t as usize] {
+            used_nodes[n as usize] = true;
+        }
+    }
+    let (node_map, kept_nodes) = renumber(used_nodes);
+    let nodes: Vec<[f64; 3]> = kept_nodes
+        .iter()
+        .map(|&n| vol.mesh.nodes()[n as usize])
+        .collect();
+    let new_tets: Vec<[u32; 4]> = cells
+        .iter()
+        .map(|&t| tets[t as usize].map(|n| node_map[n as usize]))
+        .collect();
+
+    let (edges, kept_edges) = match (&vol.edges, &vol.tet_edges) {
+        (Some(list), Some(te)) => {
+            let mut used = vec![false; list.len()];
+            for &t in &cells {
+                for &e in &te[t as usize] {
+                    if e != NONE {
+                        used[(e & !(1 << 31)) as usize] = true;
+                    }
+                }
+            }
+            let (_, kept) = renumber(used);
+            let new: Vec<[u32; 2]> = kept
+                .iter()
+                .map(|&e| list[e as usize].map(|n| node_map[n as usize]))
+                .collect();
+            (Some(new), kept)
+        }
+        _ => (None, Vec::new()),
+    };
+    let (triangles, kept_tris) = match &vol.triangles {
+        Some(list) => {
+            let mut faces = std::collections::HashSet::new();
+            for &t in &cells {
+                for f in crate::mesh::FACE_NODES {
+                    let mut k = f.map(|i| tets[t as usize][i]);
+                    k.sort_unstable();
+                    faces.insert(k);
+                }
+            }
+            let used: Vec<bool> = list
+                .iter()
+                .map(|t| {
+                    let mut k = *t;
+                    k.sort_unstable();
+                    faces.contains(&k)
+                })
+                .collect();
+            let (_, kept) = renumber(used);
+            let new: Vec<[u32; 3]> = kept
+                .iter()
+                .map(|&i| list[i as usize].map(|n| node_map[n as usize]))
+                .collect();
+            (Some(new), kept)
+        }
+        None => (None, Vec::new()),
+    };
+
+    let mut data = vol.data.clone();
+    for r in &mut data.raw {
+        let keep = match r.kind {
+            ElementKind::Node => &kept_nodes,
+            ElementKind::Tetrahedron => &cells,
+            ElementKind::Edge => &kept_edges,
+            ElementKind::Triangle => &kept_tris,
+            ElementKind::Extra => continue,
+        };
+        r.values = r.values.select(r.ty.numbers(), keep);
+    }
+    for kind in ElementKind::ALL {
+        data.counts[kind.index()] = match kind {
+            ElementKind::Node => Some(nodes.len()),
+            ElementKind::Tetrahedron => Some(cells.len()),
+            ElementKind::Edge => edges.as_ref().map(Vec::len),
+            ElementKind::Triangle => triangles.as_ref().map(Vec::len),
+            ElementKind::Extra => data.counts[kind.index()],
+        };
+    }
+    let mesh =
+        TetMesh::new(nodes, new_tets).map_err(|e| Error::Invalid(format!("save_subset: {e}")))?;
+    let tet_edges = edges.as_ref().map(|list| {
+        // A subset of a valid edge list has no repeated pairs.
+        let index = hypermesh::read::edge_index(list).unwrap_or_default();
+        hypermesh::read::edges_of_cells(&mesh, list, &index)
+    });
+    let geometry = Geometry {
+        mesh,
+        coord_type: vol.coord_type,
+        edges,
+        triangles,
+        tet_edges,
+    };
+    Volume::new(vol.source.clone(), geometry, data).map_err(Error::from)
+}
