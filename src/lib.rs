@@ -47,7 +47,11 @@ pub mod error;
 pub mod field;
 pub mod hypermesh;
 pub mod info;
+pub mod integrate;
+pub mod mapping;
 pub mod mesh;
+pub mod numbers;
+pub mod scene;
 pub mod volume;
 
 pub use error::{Error, ParseError, Result, Warning};

@@ -20,6 +20,24 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Write a generated test volume: a jittered box of tetrahedra with a smooth scalar field.
+    Generate {
+        output: PathBuf,
+        /// About how many tetrahedra (6 per cube of an n×n×n grid).
+        #[arg(long, default_value_t = 20_000)]
+        tets: usize,
+        /// Move interior nodes by up to this fraction of a cube (0 … 0.15).
+        #[arg(long, default_value_t = 0.1)]
+        jitter: f64,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Write BINARY instead of ASCII.
+        #[arg(long)]
+        binary: bool,
+        /// Full layout (triangles, tetrahedra by triangles) instead of the small one.
+        #[arg(long)]
+        full: bool,
+    },
     /// Print what a HyperMesh file holds: counts, bounding box, boundary, materials, fields.
     Info {
         /// A HyperMesh file (ASCII or BINARY; volume or data-only).
@@ -49,6 +67,36 @@ fn print_warnings(w: &[vorang::Warning]) {
 
 fn run(cli: Cli) -> Result<(), Error> {
     match cli.command {
+        Command::Generate {
+            output,
+            tets,
+            jitter,
+            seed,
+            binary,
+            full,
+        } => {
+            if !(0.0..=0.15).contains(&jitter) {
+                return Err(Error::Invalid(format!(
+                    "--jitter {jitter}: expected a value in 0 … 0.15"
+                )));
+            }
+            let vol = vorang::volume::jittered_box(tets, jitter, seed);
+            let opts = WriteOptions {
+                encoding: if binary {
+                    Encoding::Binary
+                } else {
+                    Encoding::Ascii
+                },
+                layout: if full { Layout::Full } else { Layout::Small },
+            };
+            hypermesh::save_volume(&vol, &output, opts)?;
+            eprintln!(
+                "wrote {} ({} nodes, {} tetrahedra)",
+                output.display(),
+                vol.mesh.node_count(),
+                vol.mesh.tet_count()
+            );
+        }
         Command::Info { file } => {
             let f = hypermesh::read_file(&file)?;
             print_warnings(&f.warnings);

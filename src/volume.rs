@@ -453,3 +453,45 @@ pub fn subset(vol: &Volume, field: usize) -> Result<Volume, Error> {
     };
     Volume::new(vol.source.clone(), geometry, data).map_err(Error::from)
 }
+
+/// A jittered Kuhn box in the unit cube with about `tets` cells and one smooth scalar node field
+/// (float, values in [0, 1]): the benchmark and test volume.
+pub fn jittered_box(tets: usize, jitter: f64, seed: u64) -> Volume {
+    let n = crate::mesh::generate::cubes_for(tets);
+    let (nodes, cells) = crate::mesh::generate::kuhn_box([n, n, n], [1.0; 3], jitter, seed);
+    let values: Vec<f32> = nodes.iter().map(|&p| smooth_scalar(p) as f32).collect();
+    // A Kuhn box with jitter ≤ 0.15 is always a valid mesh (checked by the generator's tests).
+    let mesh = TetMesh::new(nodes, cells)
+        .unwrap_or_else(|e| unreachable!("generated mesh is invalid: {e}"));
+    let mut vol = Volume::from_mesh(
+        format!("jittered box ({} tetrahedra)", mesh.tet_count()),
+        mesh,
+    );
+    let raw = RawData {
+        kind: ElementKind::Node,
+        ty: DataType::scalar(ScalarType::Float),
+        denominator: None,
+        values: crate::hypermesh::Values::F32(values),
+    };
+    let r = vol.data.raw.len();
+    vol.data.raw.push(raw);
+    vol.data.fields.push(Field {
+        name: Some("smooth".into()),
+        ty: DataType::scalar(ScalarType::Float),
+        denominator: None,
+        interpolator: Interpolator::Linear,
+        sources: vec![r],
+        origin: Origin {
+            file: vol.source.clone(),
+            line: 0,
+        },
+    });
+    vol
+}
+
+/// A smooth function on the unit cube with values in [0, 1].
+pub fn smooth_scalar(p: [f64; 3]) -> f64 {
+    let [x, y, z] = p;
+    0.5 + 0.25
+        * ((3.0 * x + 0.4).sin() * (2.0 * y + 0.1).cos() + (2.5 * z + 0.3).sin() * (1.5 * x).cos())
+}

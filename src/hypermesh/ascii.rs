@@ -7,6 +7,7 @@ use std::io::{self, BufRead, Write};
 use super::input::Input;
 use super::types::{DataType, ScalarType, Values};
 use crate::error::ParseError;
+use crate::numbers::is_decimal;
 
 /// The file line of every row of a block, stored compactly: rows are consecutive lines except
 /// where blank or comment lines interrupt them, and only those jumps are recorded.
@@ -89,37 +90,6 @@ fn int_in_range(tok: &[u8], lo: i64, hi: i64, ty: ScalarType) -> Result<i64, Str
             show(tok)
         )),
     }
-}
-
-/// `[+-]? (digits [. digits*] | . digits) ([eE] [+-]? digits)?` — no `inf`, `nan` or hex.
-fn is_decimal(tok: &[u8]) -> bool {
-    let mut i = 0;
-    if matches!(tok.first(), Some(b'+' | b'-')) {
-        i = 1;
-    }
-    let int_digits = tok[i..].iter().take_while(|b| b.is_ascii_digit()).count();
-    i += int_digits;
-    let mut frac_digits = 0;
-    if tok.get(i) == Some(&b'.') {
-        i += 1;
-        frac_digits = tok[i..].iter().take_while(|b| b.is_ascii_digit()).count();
-        i += frac_digits;
-    }
-    if int_digits + frac_digits == 0 {
-        return false;
-    }
-    if matches!(tok.get(i), Some(b'e' | b'E')) {
-        i += 1;
-        if matches!(tok.get(i), Some(b'+' | b'-')) {
-            i += 1;
-        }
-        let exp_digits = tok[i..].iter().take_while(|b| b.is_ascii_digit()).count();
-        if exp_digits == 0 {
-            return false;
-        }
-        i += exp_digits;
-    }
-    i == tok.len()
 }
 
 impl AsciiNumber for u8 {
@@ -392,18 +362,6 @@ fn trim_float(s: &str) -> &str {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn decimal_grammar() {
-        for ok in ["0", "-1", "+2.5", ".5", "5.", "1e5", "1.5E-7", "-0.0"] {
-            assert!(is_decimal(ok.as_bytes()), "{ok}");
-        }
-        for bad in [
-            "", "-", ".", "e5", "1e", "inf", "nan", "NaN", "0x10", "1,5", "1e+", "--1",
-        ] {
-            assert!(!is_decimal(bad.as_bytes()), "{bad}");
-        }
-    }
 
     #[test]
     fn integers_take_whole_numbers_only() {

@@ -82,7 +82,7 @@ pub fn read<R: BufRead>(
     let mut input = Input::new(reader, size);
     let (header, mut blocks, field_blocks) = read_blocks(&mut input, name)?;
     let mut warnings = Vec::new();
-    let geometry = resolve_geometry(name, &header, &blocks, &mut warnings)?;
+    let geometry = resolve_geometry(name, &header, &mut blocks, &mut warnings)?;
     let data = resolve_data(name, &header, &mut blocks, &field_blocks)?;
     Ok(HyperMeshFile {
         name: name.to_string(),
@@ -344,42 +344,51 @@ fn next_binary_marker<R: BufRead>(
     }
 }
 
-/// A block together with what is needed to report errors on its rows.
+/// A geometry block's values, taken out of the block list, with what is needed to report
+/// errors on its rows. The values are released once converted, to keep peak memory low.
 struct Located<'a> {
     file: &'a str,
     decl: &'a BlockDecl,
-    block: &'a Block,
+    values: Values,
+    rows: Option<RowLines>,
+    marker_line: usize,
 }
 
 impl Located<'_> {
     fn row_error(&self, row: usize, msg: impl std::fmt::Display) -> ParseError {
         let noun = element_noun(&self.decl.target.describe());
-        match &self.block.rows {
+        match &self.rows {
             Some(rows) => ParseError::new(
                 self.file,
-                rows.line_of(row).unwrap_or(self.block.marker_line),
+                rows.line_of(row).unwrap_or(self.marker_line),
                 format!("{noun} {}: {msg}", row + 1),
             ),
             None => ParseError::new(
                 self.file,
-                self.block.marker_line,
+                self.marker_line,
                 format!("{noun} {} of block @{}: {msg}", row + 1, self.decl.marker),
             ),
         }
     }
 
     fn elements(&self) -> usize {
-        self.block.values.len() / self.decl.ty.numbers().max(1)
+        self.values.len() / self.decl.ty.numbers().max(1)
+    }
+
+    /// Frees the values (after conversion); row positions stay for messages.
+    fn release(&mut self) {
+        self.values = Values::U8(Vec::new());
     }
 
     /// The rows as 0-based index tuples, each entry in 1…`max` (or 0 → [`NONE`] if `allow_zero`).
+    /// Releases the values.
     fn indices<const N: usize>(
-        &self,
+        &mut self,
         max: usize,
         of: &str,
         allow_zero: bool,
     ) -> Result<Vec<[u32; N]>, ParseError> {
-        let v = &self.block.values;
+        let v = &self.values;
         let mut out = Vec::with_capacity(self.elements());
         for e in 0..self.elements() {
             let mut row = [0u32; N];
@@ -402,6 +411,7 @@ impl Located<'_> {
             }
             out.push(row);
         }
+        self.release();
         Ok(out)
     }
 }
@@ -438,40 +448,44 @@ fn show_nodes(a: &[u32]) -> String {
 fn resolve_geometry(
     file: &str,
     header: &Header,
-    blocks: &[Option<Block>],
+    blocks: &mut [Option<Block>],
     warnings: &mut Vec<Warning>,
 ) -> Result<Option<Geometry>, ParseError> {
-    let loc = |t: Target| -> Option<Located> {
+    let mut loc = |t: Target| -> Option<Located> {
         let i = header.blocks.iter().position(|b| b.target == t)?;
+        let b = blocks[i].as_mut()?;
         Some(Located {
             file,
             decl: &header.blocks[i],
-            block: blocks[i].as_ref()?,
+            values: std::mem::replace(&mut b.values, Values::U8(Vec::new())),
+            rows: b.rows.clone(),
+            marker_line: b.marker_line,
         })
     };
-    let tet_blocks: Vec<(TetCoding, Located)> =
+    let mut tet_blocks: Vec<(TetCoding, Located)> =
         [TetCoding::Nodes, TetCoding::Triangles, TetCoding::Edges]
             .into_iter()
             .filter_map(|c| Some((c, loc(Target::Tetrahedra(c))?)))
             .collect();
-    let Some((_, primary)) = tet_blocks.first() else {
+    let Some(primary_line) = tet_blocks.first().map(|(_, l)| l.decl.line) else {
         return Ok(None);
     };
-    let Some(node_loc) = loc(Target::Nodes) else {
+    let Some(mut node_loc) = loc(Target::Nodes) else {
         return Err(ParseError::new(
             file,
-            primary.decl.line,
+            primary_line,
             "Tetrahedra need node coordinates: expected 'Nodes { double[3] Coordinates } = @…'",
         ));
     };
     let coord_type = node_loc.decl.ty.scalar;
     let nodes: Vec<[f64; 3]> = (0..node_loc.elements())
-        .map(|e| [0, 1, 2].map(|k| node_loc.block.values.get(3 * e + k)))
+        .map(|e| [0, 1, 2].map(|k| node_loc.values.get(3 * e + k)))
         .collect();
+    node_loc.release();
     let n_nodes = nodes.len();
 
     let edges = match loc(Target::Edges) {
-        Some(l) => {
+        Some(mut l) => {
             let e = l.indices::<2>(n_nodes, "node", false)?;
             distinct(&l, &e, "node")?;
             Some((e, l))
@@ -493,12 +507,12 @@ fn resolve_geometry(
 
     // Triangles, by nodes and/or by edges.
     let mut tri_codings: Vec<(Vec<[u32; 3]>, Located)> = Vec::new();
-    if let Some(l) = loc(Target::Triangles(TriangleCoding::Nodes)) {
+    if let Some(mut l) = loc(Target::Triangles(TriangleCoding::Nodes)) {
         let t = l.indices::<3>(n_nodes, "node", false)?;
         distinct(&l, &t, "node")?;
         tri_codings.push((t, l));
     }
-    if let Some(l) = loc(Target::Triangles(TriangleCoding::Edges)) {
+    if let Some(mut l) = loc(Target::Triangles(TriangleCoding::Edges)) {
         let (edge_list, _) = need_edges(&l)?;
         let by_edges = l.indices::<3>(edge_list.len(), "edge", false)?;
         distinct(&l, &by_edges, "edge")?;
@@ -525,8 +539,9 @@ fn resolve_geometry(
     let triangles = tri_codings.first().map(|(t, _)| t.clone());
 
     // Tetrahedra, by every coding given; the first one (Nodes, Triangles, Edges) is primary.
-    let mut tet_codings: Vec<(Vec<[u32; 4]>, &Located)> = Vec::new();
-    for (coding, l) in &tet_blocks {
+    let mut tet_codings: Vec<Vec<[u32; 4]>> = Vec::new();
+    for (coding, l) in &mut tet_blocks {
+        let l: &mut Located = l;
         let tets = match coding {
             TetCoding::Nodes => {
                 let t = l.indices::<4>(n_nodes, "node", false)?;
@@ -572,16 +587,20 @@ fn resolve_geometry(
                 t
             }
         };
-        tet_codings.push((tets, l));
+        tet_codings.push(tets);
     }
     check_codings(
         &tet_codings
             .iter()
-            .map(|(t, l)| (t.as_slice(), *l))
+            .zip(&tet_blocks)
+            .map(|(t, (_, l))| (t.as_slice(), l))
             .collect::<Vec<_>>(),
         "tetrahedron",
     )?;
-    let (tets, primary) = tet_codings.swap_remove(0);
+    // Keep only the primary coding's cells; the others were only needed for the check.
+    tet_codings.truncate(1);
+    let tets = tet_codings.swap_remove(0);
+    let primary = &tet_blocks[0].1;
     let n_tets = tets.len();
 
     let mesh = TetMesh::new(nodes, tets).map_err(|e| match e.tet() {
@@ -600,7 +619,7 @@ fn resolve_geometry(
         });
     }
 
-    if let Some(l) = loc(Target::Triangles(TriangleCoding::UpperLower)) {
+    if let Some(mut l) = loc(Target::Triangles(TriangleCoding::UpperLower)) {
         let ul = l.indices::<2>(n_tets, "tetrahedron", true)?;
         if let Some((tris, _)) = tri_codings.first() {
             for (row, pair) in ul.iter().enumerate() {

@@ -1,0 +1,465 @@
+//! A colormap and an alphamap bound to a volume: field numbers and types checked, the fields to
+//! evaluate per sample collected (each once, shared by both maps — the thesis's `field:global`
+//! optimisation), and η, χ evaluated from those values.
+
+use super::{AlphaMap, AlphaShading, ColorMap, ColorShading, FieldNeed, MapFile, Point, Shape};
+use crate::error::{ParseError, Warning};
+use crate::field::Interpolator;
+use crate::volume::Volume;
+
+/// Where one field's value sits in the per-sample buffer.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Slot {
+    offset: usize,
+    len: usize,
+}
+
+/// The buffer layout of one map: its category slot and each line's field slot (`None` for
+/// methods that do not read a field).
+#[derive(Debug, Clone)]
+struct Layout {
+    category: Option<Slot>,
+    lines: Vec<Option<Slot>>,
+}
+
+/// The method line of each map that applies at a point (`None`: no line matches its category
+/// value, so that map gives zero).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Lines {
+    pub color: Option<usize>,
+    pub alpha: Option<usize>,
+}
+
+/// A colormap and an alphamap bound to a volume.
+#[derive(Debug, Clone)]
+pub struct Mapping {
+    color: ColorMap,
+    alpha: AlphaMap,
+    /// Field numbers evaluated per sample, in buffer order.
+    fields: Vec<usize>,
+    slots: Vec<Slot>,
+    /// How each evaluated field varies along a straight segment inside a cell.
+    field_shapes: Vec<Shape>,
+    width: usize,
+    color_layout: Layout,
+    alpha_layout: Layout,
+}
+
+/// How a field varies along a straight segment inside one cell.
+pub fn field_shape(i: Interpolator) -> Shape {
+    match i {
+        Interpolator::Constant => Shape::Constant,
+        // Whitney edge functions are linear in position inside a cell.
+        Interpolator::Linear | Interpolator::EdgeElem => Shape::Linear,
+        Interpolator::HigherOrder | Interpolator::EdgeElemSar => Shape::Quadratic,
+        Interpolator::GaussTest => Shape::Nonlinear,
+    }
+}
+
+/// What binding needs to know of either kind of method.
+trait Shading {
+    fn need(&self) -> FieldNeed;
+    fn bytes(&self) -> Option<[bool; 256]>;
+}
+
+impl Shading for dyn ColorShading {
+    fn need(&self) -> FieldNeed {
+        self.field_need()
+    }
+    fn bytes(&self) -> Option<[bool; 256]> {
+        self.defined_bytes()
+    }
+}
+
+impl Shading for dyn AlphaShading {
+    fn need(&self) -> FieldNeed {
+        self.field_need()
+    }
+    fn bytes(&self) -> Option<[bool; 256]> {
+        self.defined_bytes()
+    }
+}
+
+/// Collects the fields a map reads and checks their numbers and types.
+struct Binder<'a> {
+    vol: &'a Volume,
+    fields: Vec<usize>,
+    slots: Vec<Slot>,
+    width: usize,
+    warnings: Vec<Warning>,
+}
+
+impl Binder<'_> {
+    fn slot(&mut self, field: usize) -> Slot {
+        if let Some(i) = self.fields.iter().position(|&f| f == field) {
+            return self.slots[i];
+        }
+        let len = self.vol.data.fields[field].components();
+        let s = Slot {
+            offset: self.width,
+            len,
+        };
+        self.fields.push(field);
+        self.slots.push(s);
+        self.width += len;
+        s
+    }
+
+    fn no_field(&self, file: &str, line: usize, what: &str, n: usize) -> ParseError {
+        let count = self.vol.data.fields.len();
+        let have = match count {
+            0 => "has no fields".to_string(),
+            1 => "has only field 0".to_string(),
+            c => format!("has fields 0…{}", c - 1),
+        };
+        ParseError::new(
+            file,
+            line,
+            format!("{what} {n}: the volume {} {have}", self.vol.source),
+        )
+    }
+
+    fn bind<T: Shading + ?Sized>(&mut self, map: &MapFile<T>) -> Result<Layout, ParseError> {
+        let file = map.file.as_str();
+        let category = match map.category {
+            Some((n, line)) => {
+                let f = self
+                    .vol
+                    .field(n)
+                    .ok_or_else(|| self.no_field(file, line, "CategoryField", n))?;
+                if !f.is_scalar() {
+                    return Err(ParseError::new(
+                        file,
+                        line,
+                        format!(
+                            "CategoryField {n} must be scalar, but field {n} has {} components ({})",
+                            f.components(),
+                            f.ty
+                        ),
+                    ));
+                }
+                Some(self.slot(n))
+            }
+            None => None,
+        };
+        let mut lines = Vec::with_capacity(map.lines.len());
+        for l in &map.lines {
+            let need = l.method.need();
+            if need == FieldNeed::Any {
+                lines.push(None);
+                continue;
+            }
+            let n = l.field.unwrap_or(map.data_field);
+            let Some(f) = self.vol.field(n) else {
+                return Err(match l.field {
+                    Some(_) => self.no_field(file, l.line, &format!("{}: field:", l.name), n),
+                    None => self.no_field(file, map.data_field_line, "DataField", n),
+                });
+            };
+            let ok = match need {
+                FieldNeed::Any => true,
+                FieldNeed::Scalar => f.is_scalar(),
+                FieldNeed::Components(k) => f.components() == k,
+                FieldNeed::ByteConstant => f.is_byte_constant(self.vol),
+            };
+            if !ok {
+                let name = f
+                    .name
+                    .as_deref()
+                    .map(|s| format!(" \"{s}\""))
+                    .unwrap_or_default();
+                let denom = f
+                    .denominator
+                    .as_deref()
+                    .map(|d| format!(" {d}"))
+                    .unwrap_or_default();
+                return Err(ParseError::new(
+                    file,
+                    l.line,
+                    format!(
+                        "{} needs {need}, but field {n}{name} is {{ {}{denom} }} = {}",
+                        l.name,
+                        f.ty,
+                        f.interpolator.name()
+                    ),
+                ));
+            }
+            if let Some(def) = l.method.bytes() {
+                self.warn_missing_bytes(file, l.line, l.name, n, &def);
+            }
+            lines.push(Some(self.slot(n)));
+        }
+        Ok(Layout { category, lines })
+    }
+
+    /// One warning listing the byte values the field takes that a CONST_CELL table lacks.
+    fn warn_missing_bytes(
+        &mut self,
+        file: &str,
+        line: usize,
+        name: &str,
+        n: usize,
+        defined: &[bool; 256],
+    ) {
+        let f = &self.vol.data.fields[n];
+        let raw = &self.vol.data.raw[f.sources[0]];
+        let mut seen = [false; 256];
+        for c in 0..raw.elements() {
+            let v = raw.value(c, 0);
+            if (0.0..256.0).contains(&v) {
+                seen[v as usize] = true;
+            }
+        }
+        let missing: Vec<String> = (0..256)
+            .filter(|&b| seen[b] && !defined[b])
+            .map(|b| b.to_string())
+            .collect();
+        if !missing.is_empty() {
+            self.warnings.push(Warning {
+                file: file.to_string(),
+                line: Some(line),
+                message: format!(
+                    "{name}: field {n} takes the value{} {} that the table does not list; {} map to zero",
+                    if missing.len() == 1 { "" } else { "s" },
+                    missing.join(", "),
+                    if missing.len() == 1 { "it" } else { "they" }
+                ),
+            });
+        }
+    }
+}
+
+/// The first line whose interval holds `cat` (all lines match when there is no category).
+#[inline]
+fn select<T: ?Sized>(map: &MapFile<T>, cat: Option<f64>) -> Option<usize> {
+    match cat {
+        None => (!map.lines.is_empty()).then_some(0),
+        Some(v) => map
+            .lines
+            .iter()
+            .position(|l| l.interval.is_none_or(|i| i.contains(v))),
+    }
+}
+
+impl Mapping {
+    /// Binds the maps to a volume. Errors name the map file and line; warnings (e.g. byte values
+    /// a CONST_CELL table lacks) are returned.
+    pub fn new(
+        color: &ColorMap,
+        alpha: &AlphaMap,
+        vol: &Volume,
+    ) -> Result<(Mapping, Vec<Warning>), ParseError> {
+        let mut b = Binder {
+            vol,
+            fields: Vec::new(),
+            slots: Vec::new(),
+            width: 0,
+            warnings: Vec::new(),
+        };
+        let alpha_layout = b.bind(alpha)?;
+        let color_layout = b.bind(color)?;
+        let field_shapes = b
+            .fields
+            .iter()
+            .map(|&f| field_shape(vol.data.fields[f].interpolator))
+            .collect();
+        Ok((
+            Mapping {
+                color: color.clone(),
+                alpha: alpha.clone(),
+                fields: b.fields,
+                slots: b.slots,
+                field_shapes,
+                width: b.width,
+                color_layout,
+                alpha_layout,
+            },
+            b.warnings,
+        ))
+    }
+
+    /// The fields to evaluate per sample, in buffer order.
+    pub fn fields(&self) -> &[usize] {
+        &self.fields
+    }
+
+    /// Length of the per-sample value buffer.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
+    /// Evaluates every needed field at a point into `buf` (length [`Mapping::width`]).
+    pub fn sample_fields(
+        &self,
+        vol: &Volume,
+        cell: usize,
+        lambda: &[f64; 4],
+        pos: [f64; 3],
+        buf: &mut [f64],
+    ) {
+        for (&f, s) in self.fields.iter().zip(&self.slots) {
+            vol.data.fields[f].eval(vol, cell, lambda, pos, &mut buf[s.offset..s.offset + s.len]);
+        }
+    }
+
+    fn category(layout: &Layout, values: &[f64]) -> Option<f64> {
+        layout.category.map(|s| values[s.offset])
+    }
+
+    /// The method lines active at a sample (by its category values). On a piece between cuts
+    /// the lines are fixed; an exact integrator picks them inside the piece and evaluates the
+    /// piece's ends with them, which gives the one-sided limits at a category switch.
+    #[inline]
+    pub fn lines_at(&self, values: &[f64]) -> Lines {
+        Lines {
+            color: select(&self.color, Self::category(&self.color_layout, values)),
+            alpha: select(&self.alpha, Self::category(&self.alpha_layout, values)),
+        }
+    }
+
+    /// `(η, χ)` at a sample with the given lines active.
+    #[inline]
+    pub fn eval_on(
+        &self,
+        lines: Lines,
+        values: &[f64],
+        cell: usize,
+        pos: [f64; 3],
+    ) -> ([f64; 3], f64) {
+        let slice =
+            |slot: Option<Slot>| slot.map_or(&[][..], |s| &values[s.offset..s.offset + s.len]);
+        let chi = match lines.alpha {
+            Some(i) => {
+                let value = slice(self.alpha_layout.lines[i]);
+                self.alpha.lines[i]
+                    .method
+                    .alpha(&Point { value, cell, pos })
+            }
+            None => 0.0,
+        };
+        let eta = match lines.color {
+            Some(i) => {
+                let value = slice(self.color_layout.lines[i]);
+                self.color.lines[i]
+                    .method
+                    .color(&Point { value, cell, pos }, chi)
+            }
+            None => [0.0; 3],
+        };
+        (eta, chi)
+    }
+
+    /// `(η, χ)` at a sample.
+    #[inline]
+    pub fn eval(&self, values: &[f64], cell: usize, pos: [f64; 3]) -> ([f64; 3], f64) {
+        self.eval_on(self.lines_at(values), values, cell, pos)
+    }
+
+    /// Parameters `t ∈ (0, 1)` where η or χ change slope on a segment along which the field
+    /// values run linearly from `v0` to `v1`: table values of every line's field, category
+    /// boundaries, method-specific kinks. Appended to `out` unsorted.
+    pub fn cuts(&self, v0: &[f64], v1: &[f64], out: &mut Vec<f64>) {
+        let crossing = |a: f64, b: f64, x: f64, out: &mut Vec<f64>| {
+            if (a < x && x < b) || (b < x && x < a) {
+                out.push((x - a) / (b - a));
+            }
+        };
+        for (layout, bounds) in [
+            (&self.color_layout, interval_bounds(&self.color)),
+            (&self.alpha_layout, interval_bounds(&self.alpha)),
+        ] {
+            if let Some(s) = layout.category {
+                for x in bounds {
+                    crossing(v0[s.offset], v1[s.offset], x, out);
+                }
+            }
+        }
+        for (i, slot) in self.color_layout.lines.iter().enumerate() {
+            if let Some(s) = slot.filter(|s| s.len == 1) {
+                for &x in self.color.lines[i].method.breakpoints() {
+                    crossing(v0[s.offset], v1[s.offset], x, out);
+                }
+            }
+        }
+        for (i, slot) in self.alpha_layout.lines.iter().enumerate() {
+            if let Some(s) = slot {
+                let m = &self.alpha.lines[i].method;
+                if s.len == 1 {
+                    for &x in m.breakpoints() {
+                        crossing(v0[s.offset], v1[s.offset], x, out);
+                    }
+                }
+                m.cuts(
+                    &v0[s.offset..s.offset + s.len],
+                    &v1[s.offset..s.offset + s.len],
+                    out,
+                );
+            }
+        }
+    }
+
+    /// How η and χ vary along a piece of a ray segment inside one cell, between cuts, given the
+    /// field values at a point inside the piece (which picks the active category lines).
+    pub fn piece_shapes(&self, mid: &[f64]) -> (Shape, Shape) {
+        let along = |slot: Option<Slot>, method_shape: Shape| -> Shape {
+            match slot {
+                None => method_shape.of(Shape::Constant),
+                Some(s) => {
+                    let k = self.slots.iter().position(|x| *x == s).unwrap_or(0);
+                    method_shape.of(self.field_shapes[k])
+                }
+            }
+        };
+        let lines = self.lines_at(mid);
+        let chi = match lines.alpha {
+            Some(i) => along(
+                self.alpha_layout.lines[i],
+                self.alpha.lines[i].method.shape(),
+            ),
+            None => Shape::Constant,
+        };
+        let eta = match lines.color {
+            Some(i) => {
+                let m = &self.color.lines[i].method;
+                let own = along(self.color_layout.lines[i], m.shape());
+                if m.uses_absorption() {
+                    own.times(chi)
+                } else {
+                    own
+                }
+            }
+            None => Shape::Constant,
+        };
+        // A category field that itself varies non-linearly makes the line switch at unknown
+        // points: no exact cut exists.
+        let cat_shape = |layout: &Layout| {
+            layout.category.map_or(Shape::Constant, |s| {
+                let k = self.slots.iter().position(|x| *x == s).unwrap_or(0);
+                self.field_shapes[k]
+            })
+        };
+        if cat_shape(&self.color_layout) > Shape::Linear
+            || cat_shape(&self.alpha_layout) > Shape::Linear
+        {
+            return (Shape::Nonlinear, Shape::Nonlinear);
+        }
+        (eta, chi)
+    }
+
+    pub fn color_map(&self) -> &ColorMap {
+        &self.color
+    }
+
+    pub fn alpha_map(&self) -> &AlphaMap {
+        &self.alpha
+    }
+}
+
+fn interval_bounds<T: ?Sized>(map: &MapFile<T>) -> Vec<f64> {
+    map.lines
+        .iter()
+        .filter_map(|l| l.interval)
+        .flat_map(|i| [i.from, i.to])
+        .flatten()
+        .collect()
+}

@@ -1,0 +1,7 @@
+//! Colour shading methods (thesis C.2 "Parameter für die Color Shading Methoden").
+
+pub mod absorption_weighted;
+pub mod const_cell;
+pub mod constant;
+pub mod identity;
+pub mod simple_emitter;
