@@ -43,15 +43,20 @@
 // `grads[i][k]`), which reads like the formulas it implements; iterator chains would not.
 #![allow(clippy::needless_range_loop)]
 
+pub mod atomic;
 pub mod error;
 pub mod field;
+pub mod framebuffer;
 pub mod hypermesh;
 pub mod info;
 pub mod integrate;
 pub mod mapping;
 pub mod mesh;
 pub mod numbers;
+pub mod reference;
+pub mod render;
 pub mod scene;
+pub mod sort;
 pub mod volume;
 
 pub use error::{Error, ParseError, Result, Warning};

@@ -1,5 +1,7 @@
 //! Black-box tests of HyperMesh reading and writing on hand-written files (`tests/data`).
 
+#![allow(clippy::needless_range_loop)]
+
 use std::path::{Path, PathBuf};
 
 use vorang::Volume;

@@ -1,6 +1,8 @@
 //! Colour and alpha mapping: every method, category switching, field overrides, binding errors,
 //! and the breakpoint/linearity reports checked against brute-force sampling.
 
+#![allow(clippy::needless_range_loop)]
+
 use std::path::Path;
 
 use vorang::Volume;

@@ -11,13 +11,13 @@
 
 use std::collections::HashMap;
 use std::fmt::Write as _;
-use std::fs;
-use std::io::{self, BufWriter, Write};
-use std::path::{Path, PathBuf};
+use std::io::{self, Write};
+use std::path::Path;
 
 use super::header::Encoding;
 use super::types::{DataType, ElementKind, RawData, ScalarType, Values};
 use super::{ascii, binary};
+use crate::atomic::write_atomically;
 use crate::error::Error;
 use crate::mesh::FACE_NODES;
 use crate::volume::Volume;
@@ -237,40 +237,6 @@ fn all_faces(vol: &Volume) -> (Vec<[u32; 3]>, Vec<[u32; 4]>) {
         tet_tris.push(faces);
     }
     (tris, tet_tris)
-}
-
-/// Writes atomically: to a temporary file beside `path`, then renamed, so that no partial file
-/// ever carries the final name. Missing parent folders are created.
-pub fn write_atomically(
-    path: &Path,
-    write: impl FnOnce(&mut BufWriter<fs::File>) -> io::Result<()>,
-) -> Result<(), Error> {
-    let parent = path
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    fs::create_dir_all(parent).map_err(|e| Error::io(parent, e))?;
-    let name = path
-        .file_name()
-        .ok_or_else(|| Error::Invalid(format!("{}: not a file name", path.display())))?;
-    let tmp: PathBuf = parent.join(format!(
-        ".{}.tmp{}",
-        name.to_string_lossy(),
-        std::process::id()
-    ));
-    let result = (|| {
-        let f = fs::File::create(&tmp)?;
-        let mut w = BufWriter::with_capacity(1 << 16, f);
-        write(&mut w)?;
-        w.flush()?;
-        w.into_inner().map_err(|e| e.into_error())?.sync_all()?;
-        fs::rename(&tmp, path)
-    })();
-    if let Err(e) = result {
-        let _ = fs::remove_file(&tmp);
-        return Err(Error::io(path, e));
-    }
-    Ok(())
 }
 
 /// `save_volume file [binary|ascii] [small]`.

@@ -5,7 +5,7 @@
 //! Every rule is a pure function listed once in [`RULES`]; the `method` command, help texts and
 //! the tests that run over every rule read that table.
 
-mod const_ea;
+pub mod const_ea;
 mod trapez;
 mod weighted_const_ea;
 
@@ -30,6 +30,19 @@ pub struct RuleInfo {
     pub name: &'static str,
     pub summary: &'static str,
     pub rule: Rule,
+}
+
+impl std::fmt::Debug for RuleInfo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name)
+    }
+}
+
+/// Registry entries are the same rule when they have the same name.
+impl PartialEq for RuleInfo {
+    fn eq(&self, other: &Self) -> bool {
+        self.name == other.name
+    }
 }
 
 /// Every integration rule, in the thesis's order.

@@ -1,0 +1,346 @@
+//! Image files: the format follows the extension (SPEC §6 **Decision**). 8-bit formats clip
+//! to [0, 1]; `exr`, `pfm` and `hdr` keep the floats. Formats with an alpha channel store
+//! alpha = 1 − total transparency. Every file is written to a temporary name and renamed.
+
+use std::io::{BufWriter, Seek, Write};
+use std::path::{Path, PathBuf};
+
+use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
+use image::{ExtendedColorType, ImageEncoder};
+
+use super::Framebuffer;
+use crate::atomic::write_atomically;
+use crate::error::Error;
+
+type Out<'a> = &'a mut BufWriter<std::fs::File>;
+type Writer = fn(&Framebuffer, Out) -> Result<(), String>;
+
+/// One output format.
+pub struct FormatInfo {
+    /// File extensions (lower case), the first one canonical.
+    pub extensions: &'static [&'static str],
+    pub summary: &'static str,
+    pub write: Writer,
+}
+
+fn img<E: ImageEncoder>(
+    enc: E,
+    fb: &Framebuffer,
+    data: &[u8],
+    ct: ExtendedColorType,
+) -> Result<(), String> {
+    enc.write_image(data, fb.width as u32, fb.height as u32, ct)
+        .map_err(|e| e.to_string())
+}
+
+fn floats(fb: &Framebuffer, channels: usize) -> Vec<u8> {
+    fb.pixels
+        .iter()
+        .flat_map(|p| p[..channels].iter().flat_map(|v| v.to_ne_bytes()))
+        .collect()
+}
+
+fn seekable<W: Write + Seek>(w: W) -> W {
+    w
+}
+
+impl std::fmt::Debug for FormatInfo {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.extensions[0])
+    }
+}
+
+/// Every format VoRANG writes.
+pub const FORMATS: &[FormatInfo] = &[
+    FormatInfo {
+        extensions: &["tiff", "tif"],
+        summary: "TIFF, 8-bit RGBA (the default output format)",
+        write: |fb, w| {
+            img(
+                image::codecs::tiff::TiffEncoder::new(seekable(w)),
+                fb,
+                &fb.to_rgba8(),
+                ExtendedColorType::Rgba8,
+            )
+        },
+    },
+    FormatInfo {
+        extensions: &["png"],
+        summary: "PNG, 8-bit RGBA",
+        write: |fb, w| {
+            img(
+                image::codecs::png::PngEncoder::new(w),
+                fb,
+                &fb.to_rgba8(),
+                ExtendedColorType::Rgba8,
+            )
+        },
+    },
+    FormatInfo {
+        extensions: &["bmp"],
+        summary: "Windows bitmap, 8-bit RGB",
+        write: |fb, w| {
+            img(
+                image::codecs::bmp::BmpEncoder::new(w),
+                fb,
+                &fb.to_rgb8(),
+                ExtendedColorType::Rgb8,
+            )
+        },
+    },
+    FormatInfo {
+        extensions: &["tga"],
+        summary: "Truevision Targa, 8-bit RGBA",
+        write: |fb, w| {
+            img(
+                image::codecs::tga::TgaEncoder::new(w),
+                fb,
+                &fb.to_rgba8(),
+                ExtendedColorType::Rgba8,
+            )
+        },
+    },
+    FormatInfo {
+        extensions: &["ppm", "pnm"],
+        summary: "portable pixmap (binary P6), 8-bit RGB",
+        write: |fb, w| {
+            let e = PnmEncoder::new(w).with_subtype(PnmSubtype::Pixmap(SampleEncoding::Binary));
+            img(e, fb, &fb.to_rgb8(), ExtendedColorType::Rgb8)
+        },
+    },
+    FormatInfo {
+        extensions: &["pgm"],
+        summary: "portable graymap (binary P5), 8-bit luminance (Rec. 601 weights)",
+        write: |fb, w| {
+            let luma: Vec<u8> = fb
+                .pixels
+                .iter()
+                .map(|p| {
+                    super::to_u8(
+                        0.299 * p[0].clamp(0.0, 1.0)
+                            + 0.587 * p[1].clamp(0.0, 1.0)
+                            + 0.114 * p[2].clamp(0.0, 1.0),
+                    )
+                })
+                .collect();
+            let e = PnmEncoder::new(w).with_subtype(PnmSubtype::Graymap(SampleEncoding::Binary));
+            img(e, fb, &luma, ExtendedColorType::L8)
+        },
+    },
+    FormatInfo {
+        extensions: &["pam"],
+        summary: "portable arbitrary map, 8-bit RGB_ALPHA",
+        write: |fb, w| {
+            let e = PnmEncoder::new(w).with_subtype(PnmSubtype::ArbitraryMap);
+            img(e, fb, &fb.to_rgba8(), ExtendedColorType::Rgba8)
+        },
+    },
+    FormatInfo {
+        extensions: &["jpg", "jpeg"],
+        summary: "JPEG, 8-bit RGB, quality 95",
+        write: |fb, w| {
+            img(
+                image::codecs::jpeg::JpegEncoder::new_with_quality(w, 95),
+                fb,
+                &fb.to_rgb8(),
+                ExtendedColorType::Rgb8,
+            )
+        },
+    },
+    FormatInfo {
+        extensions: &["gif"],
+        summary: "GIF, 8-bit RGB (quantised to 256 colours)",
+        write: |fb, w| {
+            let rgba: Vec<u8> = fb
+                .pixels
+                .iter()
+                .flat_map(|p| {
+                    [
+                        super::to_u8(p[0]),
+                        super::to_u8(p[1]),
+                        super::to_u8(p[2]),
+                        255,
+                    ]
+                })
+                .collect();
+            img(
+                image::codecs::gif::GifEncoder::new(w),
+                fb,
+                &rgba,
+                ExtendedColorType::Rgba8,
+            )
+        },
+    },
+    FormatInfo {
+        extensions: &["ico"],
+        summary: "Windows icon, 8-bit RGBA (at most 256 × 256)",
+        write: |fb, w| {
+            img(
+                image::codecs::ico::IcoEncoder::new(w),
+                fb,
+                &fb.to_rgba8(),
+                ExtendedColorType::Rgba8,
+            )
+        },
+    },
+    FormatInfo {
+        extensions: &["qoi"],
+        summary: "Quite OK Image, 8-bit RGBA",
+        write: |fb, w| {
+            img(
+                image::codecs::qoi::QoiEncoder::new(w),
+                fb,
+                &fb.to_rgba8(),
+                ExtendedColorType::Rgba8,
+            )
+        },
+    },
+    FormatInfo {
+        extensions: &["webp"],
+        summary: "WebP (lossless), 8-bit RGBA",
+        write: |fb, w| {
+            img(
+                image::codecs::webp::WebPEncoder::new_lossless(w),
+                fb,
+                &fb.to_rgba8(),
+                ExtendedColorType::Rgba8,
+            )
+        },
+    },
+    FormatInfo {
+        extensions: &["hdr"],
+        summary: "Radiance HDR, float RGB",
+        write: |fb, w| {
+            img(
+                image::codecs::hdr::HdrEncoder::new(w),
+                fb,
+                &floats(fb, 3),
+                ExtendedColorType::Rgb32F,
+            )
+        },
+    },
+    FormatInfo {
+        extensions: &["exr"],
+        summary: "OpenEXR, 32-bit float RGBA",
+        write: |fb, w| {
+            img(
+                image::codecs::openexr::OpenExrEncoder::new(seekable(w)),
+                fb,
+                &floats(fb, 4),
+                ExtendedColorType::Rgba32F,
+            )
+        },
+    },
+    FormatInfo {
+        extensions: &["pfm"],
+        summary: "portable float map: RGB float32, little-endian, rows bottom to top",
+        write: |fb, w| super::pfm::write(fb, w).map_err(|e| e.to_string()),
+    },
+    FormatInfo {
+        extensions: &["rgb", "sgi", "rgba"],
+        summary: "SGI image (the thesis's example format): 8-bit RGB, RGBA for .rgba",
+        write: |fb, w| super::sgi::write(fb, w, false).map_err(|e| e.to_string()),
+    },
+];
+
+/// The format for a file name, from its extension (case-insensitive).
+pub fn format_for(path: &Path) -> Result<&'static FormatInfo, Error> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .unwrap_or_default();
+    FORMATS
+        .iter()
+        .find(|f| f.extensions.contains(&ext.as_str()))
+        .ok_or_else(|| {
+            let all: Vec<&str> = FORMATS
+                .iter()
+                .flat_map(|f| f.extensions.iter().copied())
+                .collect();
+            Error::Invalid(format!(
+                "{}: unknown image format '{}': expected one of {}",
+                path.display(),
+                if ext.is_empty() {
+                    "(no extension)"
+                } else {
+                    &ext
+                },
+                all.join(", ")
+            ))
+        })
+}
+
+/// `base.ext` with image number `nr` → `base.0001.ext` (SPEC §6: the first image is 0001).
+pub fn numbered(base: &Path, nr: u32) -> PathBuf {
+    let stem = base
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let name = match base.extension() {
+        Some(ext) => format!("{stem}.{nr:04}.{}", ext.to_string_lossy()),
+        None => format!("{stem}.{nr:04}"),
+    };
+    base.with_file_name(name)
+}
+
+/// Writes `fb` to `path` in the format of its extension, atomically; creates missing folders.
+pub fn write_image(fb: &Framebuffer, path: &Path) -> Result<(), Error> {
+    let format = format_for(path)?;
+    let is_sgi_rgba = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("rgba"));
+    let mut failure = None;
+    let result = write_atomically(path, |w| {
+        let r = if is_sgi_rgba {
+            super::sgi::write(fb, w, true).map_err(|e| e.to_string())
+        } else {
+            (format.write)(fb, w)
+        };
+        r.map_err(|msg| {
+            failure = Some(msg.clone());
+            std::io::Error::other(msg)
+        })
+    });
+    match (result, failure) {
+        (Err(_), Some(msg)) => Err(Error::Invalid(format!(
+            "{}: cannot write {}: {msg}",
+            path.display(),
+            format.extensions[0]
+        ))),
+        (r, _) => r,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn numbering_inserts_four_digits_before_the_extension() {
+        assert_eq!(
+            numbered(Path::new("out/test.rgb"), 1),
+            PathBuf::from("out/test.0001.rgb")
+        );
+        assert_eq!(
+            numbered(Path::new("vorang.tiff"), 36),
+            PathBuf::from("vorang.0036.tiff")
+        );
+        assert_eq!(
+            numbered(Path::new("a.b.png"), 12345),
+            PathBuf::from("a.b.12345.png")
+        );
+    }
+
+    #[test]
+    fn formats_come_from_the_extension() {
+        assert_eq!(format_for(Path::new("x.PNG")).unwrap().extensions[0], "png");
+        assert_eq!(
+            format_for(Path::new("x.tif")).unwrap().extensions[0],
+            "tiff"
+        );
+        let e = format_for(Path::new("x.xyz")).unwrap_err().to_string();
+        assert!(e.contains("unknown image format 'xyz'"), "{e}");
+        assert!(format_for(Path::new("noext")).is_err());
+    }
+}

@@ -1,0 +1,242 @@
+//! Shirley–Tuchman classification of a projected tetrahedron (thesis 2.2.2.2, fig. 2.8).
+//!
+//! | class | projection | triangles | thick point T |
+//! |---|---|---|---|
+//! | 1a, 1b | a triangle with the fourth vertex inside (1a: that vertex is in front of the opposite face, 1b: behind) | 3 | the inner vertex |
+//! | 2 | a convex quadrilateral: two edges cross | 4 | the crossing |
+//! | 3a, 3b | a triangle with the fourth vertex on an edge (a face seen edge-on) | 2 | that vertex |
+//! | 4 | two vertices coincide (an edge along the view) | 1 | the coinciding vertices |
+//!
+//! The projection is split into triangles that all share T, where the depth of the cell is
+//! largest. Orientation tests are exact (Shewchuk's predicates), so the class is decided
+//! consistently even for degenerate views.
+
+use robust::{Coord, orient2d};
+
+use crate::mesh::orientation;
+
+/// The projection class.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum ProjClass {
+    OneA,
+    OneB,
+    Two,
+    ThreeA,
+    ThreeB,
+    Four,
+    /// All four vertices on a line: the projection has no area.
+    Flat,
+}
+
+impl ProjClass {
+    pub fn name(self) -> &'static str {
+        match self {
+            ProjClass::OneA => "1a",
+            ProjClass::OneB => "1b",
+            ProjClass::Two => "2",
+            ProjClass::ThreeA => "3a",
+            ProjClass::ThreeB => "3b",
+            ProjClass::Four => "4",
+            ProjClass::Flat => "flat",
+        }
+    }
+}
+
+/// Marks the thick point T as a triangle vertex (0…3 are the cell's nodes).
+pub const THICK: u8 = 4;
+
+/// A classified projection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Projection {
+    pub class: ProjClass,
+    /// Screen position of the thick point T.
+    pub thick: [f64; 2],
+    /// The node that T coincides with (classes 1, 3, 4).
+    pub thick_node: Option<usize>,
+    /// Triangles over the projection, vertices 0…3 (nodes) or [`THICK`].
+    pub triangles: [[u8; 3]; 4],
+    pub count: usize,
+}
+
+fn sign(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> i8 {
+    let o = orient2d(
+        Coord { x: p[0], y: p[1] },
+        Coord { x: q[0], y: q[1] },
+        Coord { x: r[0], y: r[1] },
+    );
+    if o > 0.0 {
+        1
+    } else if o < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// Is node `i` nearer to the viewer than the plane of the other three? (`eye` in eye space.)
+fn in_front(eye: &[[f64; 3]; 4], i: usize, others: [usize; 3], perspective: bool) -> bool {
+    let [j, k, l] = others.map(|n| eye[n]);
+    let node_side = orientation(j, k, l, eye[i]);
+    let viewer_side = if perspective {
+        orientation(j, k, l, [0.0; 3])
+    } else {
+        // The viewer at +∞ z: the side is the sign of the plane normal's z component.
+        (k[0] - j[0]) * (l[1] - j[1]) - (k[1] - j[1]) * (l[0] - j[0])
+    };
+    node_side * viewer_side > 0.0
+}
+
+/// Classifies the projection of a cell with screen positions `s` and eye positions `eye`.
+pub fn classify(s: &[[f64; 2]; 4], eye: &[[f64; 3]; 4], perspective: bool) -> Projection {
+    const OTHERS: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
+    let mut out = Projection {
+        class: ProjClass::Flat,
+        thick: s[0],
+        thick_node: None,
+        triangles: [[0; 3]; 4],
+        count: 0,
+    };
+    // A vertex inside, on an edge of, or on a vertex of the triangle of the other three.
+    for i in 0..4 {
+        let [j, k, l] = OTHERS[i];
+        let area = sign(s[j], s[k], s[l]);
+        if area == 0 {
+            continue;
+        }
+        let e = [
+            sign(s[j], s[k], s[i]),
+            sign(s[k], s[l], s[i]),
+            sign(s[l], s[j], s[i]),
+        ];
+        if e.contains(&-area) {
+            continue;
+        }
+        let zeros = e.iter().filter(|&&x| x == 0).count();
+        let (jj, kk, ll) = (j as u8, k as u8, l as u8);
+        out.thick = s[i];
+        out.thick_node = Some(i);
+        let front = in_front(eye, i, [j, k, l], perspective);
+        match zeros {
+            0 => {
+                out.class = if front {
+                    ProjClass::OneA
+                } else {
+                    ProjClass::OneB
+                };
+                out.triangles = [[jj, kk, THICK], [kk, ll, THICK], [ll, jj, THICK], [0; 3]];
+                out.count = 3;
+            }
+            1 => {
+                // On the edge whose orientation is zero: (j,k), (k,l) or (l,j).
+                let (a, b, c) = match e.iter().position(|&x| x == 0) {
+                    Some(0) => (jj, kk, ll),
+                    Some(1) => (kk, ll, jj),
+                    _ => (ll, jj, kk),
+                };
+                out.class = if front {
+                    ProjClass::ThreeA
+                } else {
+                    ProjClass::ThreeB
+                };
+                out.triangles = [[a, THICK, c], [THICK, b, c], [0; 3], [0; 3]];
+                out.count = 2;
+            }
+            _ => {
+                // Coincides with one of j, k, l: the triangle of the three distinct points.
+                let same = match e {
+                    [0, _, 0] => jj,
+                    [0, 0, _] => kk,
+                    _ => ll,
+                };
+                let rest: Vec<u8> = [jj, kk, ll].into_iter().filter(|&v| v != same).collect();
+                out.class = ProjClass::Four;
+                out.triangles = [[THICK, rest[0], rest[1]], [0; 3], [0; 3], [0; 3]];
+                out.count = 1;
+            }
+        }
+        return out;
+    }
+    // A convex quadrilateral: find the two crossing edges (the diagonals).
+    for (a, b, c, d) in [(0, 1, 2, 3), (0, 2, 1, 3), (0, 3, 1, 2)] {
+        let crosses = sign(s[a], s[b], s[c]) * sign(s[a], s[b], s[d]) < 0
+            && sign(s[c], s[d], s[a]) * sign(s[c], s[d], s[b]) < 0;
+        if !crosses {
+            continue;
+        }
+        let (p, r) = (s[a], [s[b][0] - s[a][0], s[b][1] - s[a][1]]);
+        let (q, u) = (s[c], [s[d][0] - s[c][0], s[d][1] - s[c][1]]);
+        let denom = r[0] * u[1] - r[1] * u[0];
+        let t = ((q[0] - p[0]) * u[1] - (q[1] - p[1]) * u[0]) / denom;
+        out.class = ProjClass::Two;
+        out.thick = [p[0] + t * r[0], p[1] + t * r[1]];
+        let (a, b, c, d) = (a as u8, b as u8, c as u8, d as u8);
+        // Around the hull: a, c, b, d.
+        out.triangles = [[a, c, THICK], [c, b, THICK], [b, d, THICK], [d, a, THICK]];
+        out.count = 4;
+        return out;
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Orthographic: screen = (x, −y) of eye space (any fixed affine map would do).
+    fn ortho(eye: [[f64; 3]; 4]) -> Projection {
+        let s = eye.map(|p| [p[0], -p[1]]);
+        classify(&s, &eye, false)
+    }
+
+    #[test]
+    fn every_class_is_recognised() {
+        // A vertex straight in front of / behind the centre of a face.
+        let base = [[0.0, 0.0, -5.0], [3.0, 0.0, -5.0], [0.0, 3.0, -5.0]];
+        let c = ortho([base[0], base[1], base[2], [1.0, 1.0, -4.0]]);
+        assert_eq!(
+            (c.class, c.count, c.thick_node),
+            (ProjClass::OneA, 3, Some(3))
+        );
+        let c = ortho([base[0], base[1], base[2], [1.0, 1.0, -6.0]]);
+        assert_eq!(c.class, ProjClass::OneB);
+        // Two crossing edges.
+        let c = ortho([
+            [0.0, 0.0, -5.0],
+            [2.0, 2.0, -5.0],
+            [2.0, 0.0, -4.0],
+            [0.0, 2.0, -4.0],
+        ]);
+        assert_eq!((c.class, c.count), (ProjClass::Two, 4));
+        assert!((c.thick[0] - 1.0).abs() < 1e-15 && (c.thick[1] + 1.0).abs() < 1e-15);
+        // A vertex over an edge.
+        let c = ortho([base[0], base[1], base[2], [1.5, 0.0, -4.0]]);
+        assert_eq!((c.class, c.count), (ProjClass::ThreeA, 2));
+        let c = ortho([base[0], base[1], base[2], [1.5, 0.0, -6.0]]);
+        assert_eq!(c.class, ProjClass::ThreeB);
+        // An edge along the view direction.
+        let c = ortho([base[0], base[1], base[2], [0.0, 0.0, -7.0]]);
+        assert_eq!((c.class, c.count), (ProjClass::Four, 1));
+        // Everything on one line.
+        let c = ortho([
+            [0.0, 0.0, -1.0],
+            [1.0, 0.0, -2.0],
+            [2.0, 0.0, -3.0],
+            [3.0, 0.0, -1.0],
+        ]);
+        assert_eq!((c.class, c.count), (ProjClass::Flat, 0));
+    }
+
+    #[test]
+    fn perspective_front_and_back_use_the_eye() {
+        // Eye at the origin looking down −z: the inner vertex nearer to the eye is class 1a.
+        let base = [[-1.0, -1.0, -5.0], [2.0, -1.0, -5.0], [-1.0, 2.0, -5.0]];
+        let near = [0.0, 0.0, -3.0];
+        let eye = [base[0], base[1], base[2], near];
+        let s = eye.map(|p| [p[0] / -p[2], -p[1] / -p[2]]);
+        assert_eq!(classify(&s, &eye, true).class, ProjClass::OneA);
+        let far = [0.0, 0.0, -8.0];
+        let eye = [base[0], base[1], base[2], far];
+        let s = eye.map(|p| [p[0] / -p[2], -p[1] / -p[2]]);
+        assert_eq!(classify(&s, &eye, true).class, ProjClass::OneB);
+    }
+}

@@ -1,0 +1,174 @@
+//! Every output format is written and read back with the expected values.
+
+#![allow(clippy::needless_range_loop)]
+
+use std::path::Path;
+
+use vorang::framebuffer::{FORMATS, Framebuffer, numbered, read_pfm, write_image};
+
+/// A small image with known values: a gradient, values above 1 and below 0, and varying alpha.
+fn sample() -> Framebuffer {
+    let (w, h) = (7, 5);
+    let mut fb = Framebuffer::new(w, h);
+    for y in 0..h {
+        for x in 0..w {
+            let r = x as f32 / (w - 1) as f32;
+            let g = y as f32 / (h - 1) as f32;
+            let b = if x == 0 {
+                2.5
+            } else if x == 1 {
+                -0.5
+            } else {
+                0.25
+            };
+            fb.pixels[y * w + x] = [r, g, b, 1.0 - 0.1 * y as f32];
+        }
+    }
+    fb
+}
+
+fn expect8(v: f32) -> u8 {
+    (v.clamp(0.0, 1.0) * 255.0).round() as u8
+}
+
+#[test]
+fn every_format_writes_and_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let fb = sample();
+    for format in FORMATS {
+        for ext in format.extensions {
+            let path = dir.path().join(format!("nested/img.{ext}"));
+            write_image(&fb, &path).unwrap_or_else(|e| panic!("{ext}: {e}"));
+            let bytes = std::fs::read(&path).unwrap();
+            assert!(!bytes.is_empty(), "{ext}");
+            match *ext {
+                "pfm" => {
+                    let (w, h, rgb) = read_pfm(&bytes).unwrap();
+                    assert_eq!((w, h), (fb.width, fb.height));
+                    for (p, q) in fb.pixels.iter().zip(&rgb) {
+                        assert_eq!(&p[..3], &q[..], "pfm keeps floats exactly");
+                    }
+                }
+                "rgb" | "sgi" | "rgba" => {
+                    assert_eq!(u16::from_be_bytes([bytes[0], bytes[1]]), 474);
+                    let channels = u16::from_be_bytes([bytes[10], bytes[11]]) as usize;
+                    assert_eq!(channels, if *ext == "rgba" { 4 } else { 3 });
+                    let (w, h) = (fb.width, fb.height);
+                    assert_eq!(bytes.len(), 512 + w * h * channels);
+                    // Planes, bottom row first: pixel (x, y) of channel c.
+                    for c in 0..channels {
+                        for y in 0..h {
+                            for x in 0..w {
+                                let got = bytes[512 + c * w * h + (h - 1 - y) * w + x];
+                                assert_eq!(
+                                    got,
+                                    expect8(fb.get(x, y)[c]),
+                                    "{ext} channel {c} at ({x},{y})"
+                                );
+                            }
+                        }
+                    }
+                }
+                _ => {
+                    let img = image::open(&path).unwrap_or_else(|e| panic!("{ext}: {e}"));
+                    assert_eq!(
+                        (img.width() as usize, img.height() as usize),
+                        (fb.width, fb.height),
+                        "{ext}"
+                    );
+                    match *ext {
+                        "exr" => {
+                            let f = img.to_rgba32f();
+                            for (p, q) in fb.pixels.iter().zip(f.pixels()) {
+                                assert_eq!(p, &q.0, "exr keeps floats exactly");
+                            }
+                        }
+                        "hdr" => {
+                            let f = img.to_rgb32f();
+                            for (p, q) in fb.pixels.iter().zip(f.pixels()) {
+                                // RGBE: 8-bit mantissas under one shared exponent per pixel.
+                                let max = p[..3].iter().fold(0.0f32, |m, v| m.max(*v));
+                                for c in 0..3 {
+                                    let want = p[c].max(0.0);
+                                    assert!(
+                                        (q.0[c] - want).abs() <= max / 128.0,
+                                        "hdr: {} vs {want}",
+                                        q.0[c]
+                                    );
+                                }
+                            }
+                        }
+                        "pgm" => {
+                            let l = img.to_luma8();
+                            for (p, q) in fb.pixels.iter().zip(l.pixels()) {
+                                let y = 0.299 * p[0].clamp(0.0, 1.0)
+                                    + 0.587 * p[1].clamp(0.0, 1.0)
+                                    + 0.114 * p[2].clamp(0.0, 1.0);
+                                assert!((q.0[0] as i32 - expect8(y) as i32).abs() <= 1);
+                            }
+                        }
+                        _ => {
+                            let lossy = matches!(*ext, "jpg" | "jpeg" | "gif");
+                            let with_alpha = matches!(
+                                *ext,
+                                "png" | "tiff" | "tif" | "tga" | "pam" | "ico" | "qoi" | "webp"
+                            );
+                            let rgba = img.to_rgba8();
+                            for (p, q) in fb.pixels.iter().zip(rgba.pixels()) {
+                                for c in 0..3 {
+                                    let d = (q.0[c] as i32 - expect8(p[c]) as i32).abs();
+                                    assert!(
+                                        d <= if lossy { 24 } else { 0 },
+                                        "{ext} channel {c}: {} vs {}",
+                                        q.0[c],
+                                        expect8(p[c])
+                                    );
+                                }
+                                let a = if with_alpha { expect8(p[3]) } else { 255 };
+                                assert_eq!(q.0[3], a, "{ext} alpha");
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn no_partial_file_and_clear_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let fb = sample();
+    // Unknown extension: nothing written.
+    let bad = dir.path().join("x.xyz");
+    assert!(write_image(&fb, &bad).is_err());
+    assert!(!bad.exists());
+    // An unwritable place: a "folder" that is a file.
+    let file = dir.path().join("plain");
+    std::fs::write(&file, b"x").unwrap();
+    let e = write_image(&fb, &file.join("img.png")).unwrap_err();
+    assert!(e.to_string().contains("plain"), "{e}");
+    // ICO is limited to 256 × 256: the error names the format and no file is left behind.
+    let big = Framebuffer::new(300, 10);
+    let ico = dir.path().join("big.ico");
+    assert!(write_image(&big, &ico).is_err());
+    assert!(!ico.exists());
+    let leftovers: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert!(
+        leftovers
+            .iter()
+            .all(|n| !n.to_string_lossy().contains(".tmp")),
+        "{leftovers:?}"
+    );
+}
+
+#[test]
+fn image_numbers_start_at_0001() {
+    assert_eq!(
+        numbered(Path::new("a/b.tiff"), 1),
+        Path::new("a/b.0001.tiff")
+    );
+}

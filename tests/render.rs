@@ -1,0 +1,683 @@
+//! The renderer against analytic answers and the independent reference ray caster.
+
+#![allow(clippy::needless_range_loop)]
+
+use vorang::Volume;
+use vorang::field::Interpolator;
+use vorang::framebuffer::Framebuffer;
+use vorang::hypermesh::{DataType, ElementKind, RawData, ScalarType, Values};
+use vorang::integrate::RULES;
+use vorang::mapping::{AlphaShading, ColorShading, Mapping, parse_map};
+use vorang::mesh::TetMesh;
+use vorang::mesh::generate::{SplitMix64, kuhn_box};
+use vorang::reference::Options;
+use vorang::render::cell::EyeCell;
+use vorang::render::footprint::footprint;
+use vorang::render::project::ProjClass;
+use vorang::render::{LineDraw, Method, Order, Settings, render};
+use vorang::scene::{Camera, LookAt, Projector, TransformOp, View};
+use vorang::sort::{self, SortInput};
+
+fn mapping(vol: &Volume, color: &str, alpha: &str) -> Mapping {
+    let c = parse_map::<dyn ColorShading>(color.as_bytes(), "c.map")
+        .unwrap()
+        .0;
+    let a = parse_map::<dyn AlphaShading>(alpha.as_bytes(), "a.map")
+        .unwrap()
+        .0;
+    Mapping::new(&c, &a, vol).unwrap().0
+}
+
+fn constant_maps(vol: &Volume, eta: [f64; 3], chi: f64) -> Mapping {
+    mapping(
+        vol,
+        &format!(
+            "# VoRANG Colormap 1.0\nCONSTANT @1\n@1\n{} {} {}\n",
+            eta[0], eta[1], eta[2]
+        ),
+        &format!("# VoRANG Alphamap 1.0\nCONSTANT @1\n@1\n{chi}\n"),
+    )
+}
+
+/// A box of `n³` Kuhn cubes with one smooth scalar node field.
+fn box_volume(n: usize, size: [f64; 3], jitter: f64, seed: u64) -> Volume {
+    let (nodes, tets) = kuhn_box([n, n, n], size, jitter, seed);
+    let values: Vec<f64> = nodes
+        .iter()
+        .map(|p| (1.3 * p[0] + 0.4).sin() * (2.1 * p[1]).cos() + p[2] * p[2])
+        .collect();
+    let mesh = TetMesh::new(nodes, tets).unwrap();
+    let mut vol = Volume::from_mesh("box", mesh);
+    let r = vol
+        .add_raw(RawData {
+            kind: ElementKind::Node,
+            ty: DataType::scalar(ScalarType::Double),
+            denominator: None,
+            values: Values::F64(values),
+        })
+        .unwrap();
+    vol.add_field(
+        Some("s"),
+        DataType::scalar(ScalarType::Double),
+        Interpolator::Linear,
+        &[r],
+    )
+    .unwrap();
+    vol
+}
+
+fn settings(w: usize, h: usize, method: &str) -> Settings {
+    let words: Vec<&str> = method.split_whitespace().collect();
+    Settings {
+        width: w,
+        height: h,
+        method: Method::parse(&words).unwrap(),
+        lines: LineDraw::Off,
+        ..Settings::default()
+    }
+}
+
+fn max_diff(a: &Framebuffer, b: &[[f64; 4]]) -> f64 {
+    a.pixels
+        .iter()
+        .zip(b)
+        .flat_map(|(p, q)| (0..4).map(move |k| (f64::from(p[k]) - q[k]).abs()))
+        .fold(0.0, f64::max)
+}
+
+fn max_diff_fb(a: &Framebuffer, b: &Framebuffer) -> f64 {
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .flat_map(|(p, q)| (0..4).map(move |k| (p[k] - q[k]).abs() as f64))
+        .fold(0.0, f64::max)
+}
+
+/// Every method × rule on a homogeneous slab: the opacity is 1 − e^{−χl} and the intensity
+/// I0·e^{−χl} + B·η/χ·(1 − e^{−χl}) where the rule is exact for constant coefficients.
+#[test]
+fn a_homogeneous_slab_matches_the_analytic_answer() {
+    // A 1 × 1 × 0.4 slab seen along z with the default camera: every ray crosses 0.4.
+    let (nodes, tets) = kuhn_box([3, 3, 2], [1.0, 1.0, 0.4], 0.1, 3);
+    let vol = Volume::from_mesh("slab", TetMesh::new(nodes, tets).unwrap());
+    let (eta, chi, l, b) = ([0.3, 0.6, 0.9], 2.5, 0.4, 1.5);
+    let m = constant_maps(&vol, eta, chi);
+    let theta = (-chi * l).exp();
+    let expect: [f64; 4] = [0, 1, 2, 3].map(|c| {
+        if c < 3 {
+            theta + b * eta[c] / chi * (1.0 - theta)
+        } else {
+            1.0 - theta
+        }
+    });
+    let view = View::default();
+    for rule in RULES {
+        for method in [
+            format!("exact {} 0.01 {b}", rule.name),
+            format!("exact {} 0 {b}", rule.name),
+            format!("interpolateCoeff {} {b}", rule.name),
+        ] {
+            let (fb, _) = render(&vol, &m, &view, &settings(16, 16, &method), None).unwrap();
+            for p in &fb.pixels {
+                assert!(
+                    (f64::from(p[3]) - expect[3]).abs() < 1e-6,
+                    "{method}: alpha {} vs {}",
+                    p[3],
+                    expect[3]
+                );
+                // trapez is exact only in the limit of short pieces.
+                let tol = if rule.name == "trapez" && !method.contains("0.01") {
+                    0.05
+                } else if rule.name == "trapez" {
+                    2e-5
+                } else {
+                    1e-6
+                };
+                for c in 0..3 {
+                    assert!(
+                        (f64::from(p[c]) - expect[c]).abs() < tol,
+                        "{method}: channel {c}: {} vs {}",
+                        p[c],
+                        expect[c]
+                    );
+                }
+            }
+        }
+    }
+    // interpolateColor: exact at the thick points only, more transparent elsewhere (thesis 7.1);
+    // never more opaque than the truth.
+    let (fb, _) = render(
+        &vol,
+        &m,
+        &view,
+        &settings(16, 16, &format!("interpolateColor {b}")),
+        None,
+    )
+    .unwrap();
+    for p in &fb.pixels {
+        assert!(f64::from(p[3]) <= expect[3] + 1e-6 && p[3] > 0.0);
+    }
+}
+
+/// With constant coefficients interpolateCoeff integrates one segment per cell, exactly as
+/// `exact` with a step longer than any cell does.
+#[test]
+fn interpolate_coeff_equals_exact_with_one_piece_per_cell_for_constant_maps() {
+    let vol = box_volume(3, [1.0; 3], 0.1, 4);
+    let m = constant_maps(&vol, [0.4, 0.2, 0.9], 3.0);
+    let view = View {
+        transforms: vec![TransformOp::Rotate {
+            axis: [1.0, 2.0, 0.5],
+            degrees: 40.0,
+        }],
+        ..View::default()
+    };
+    for rule in RULES {
+        let a = render(
+            &vol,
+            &m,
+            &view,
+            &settings(24, 24, &format!("exact {} 100 1", rule.name)),
+            None,
+        )
+        .unwrap()
+        .0;
+        let b = render(
+            &vol,
+            &m,
+            &view,
+            &settings(24, 24, &format!("interpolateCoeff {} 1", rule.name)),
+            None,
+        )
+        .unwrap()
+        .0;
+        assert!(max_diff_fb(&a, &b) < 1e-6, "{}", rule.name);
+    }
+}
+
+const PL_COLOR: &str = "# VoRANG Colormap 1.0\nSIMPLE_EMITTER @1\n@1\n0.1 0 0.2 -1\n1 0.5 0 -0.2\n0.2 1 0.4 0.3\n0.5 0.3 1 0.8\n1 1 1 1.4\n";
+const PL_ALPHA: &str =
+    "# VoRANG Alphamap 1.0\nSIMPLE_ABSORBER @1\n@1\n0.5 -1\n4 -0.3\n1 0.2\n6 0.9\n2 1.5\n";
+
+fn views() -> Vec<(&'static str, View)> {
+    vec![
+        (
+            "ortho rotated",
+            View {
+                transforms: vec![
+                    TransformOp::Rotate {
+                        axis: [0.3, 1.0, 0.2],
+                        degrees: 33.0,
+                    },
+                    TransformOp::Rotate {
+                        axis: [1.0, 0.0, 0.0],
+                        degrees: -20.0,
+                    },
+                ],
+                camera: Some(Camera::Ortho {
+                    left: -0.9,
+                    right: 0.9,
+                    bottom: -0.9,
+                    top: 0.9,
+                    front: -5.0,
+                    back: 5.0,
+                }),
+                ..View::default()
+            },
+        ),
+        (
+            "perspective rotated",
+            View {
+                transforms: vec![TransformOp::Rotate {
+                    axis: [1.0, 1.0, 0.0],
+                    degrees: 25.0,
+                }],
+                look_at: LookAt {
+                    eye: [0.4, 0.3, 2.5],
+                    reference: [0.0, 0.0, 0.0],
+                    up: [0.0, 1.0, 0.0],
+                },
+                camera: Some(Camera::Persp {
+                    fovy: 40.0,
+                    aspect: 1.0,
+                    near: 0.5,
+                    far: 10.0,
+                }),
+            },
+        ),
+    ]
+}
+
+fn rms_diff(a: &Framebuffer, b: &[[f64; 4]]) -> f64 {
+    let d: Vec<f64> = a
+        .pixels
+        .iter()
+        .zip(b)
+        .flat_map(|(p, q)| (0..3).map(move |k| f64::from(p[k]) - q[k]))
+        .collect();
+    (d.iter().map(|x| x * x).sum::<f64>() / d.len() as f64).sqrt()
+}
+
+/// exact constEA converges to the reference at second order: the error falls by about 4 per
+/// halving of the step (RMS over the image; steps small enough for every cell to be cut into
+/// several pieces, where `ceil(length/step)` pieces halve with the step).
+#[test]
+fn exact_const_ea_converges_to_the_reference_at_second_order() {
+    let vol = box_volume(3, [1.0; 3], 0.12, 7);
+    let m = mapping(&vol, PL_COLOR, PL_ALPHA);
+    for (name, view) in views() {
+        let (w, h) = (20, 20);
+        let reference = vorang::reference::render(&vol, &m, &view, &Options::new(w, h));
+        let mut errors = Vec::new();
+        for step in [0.02, 0.01, 0.005, 0.0025] {
+            let (fb, _) = render(
+                &vol,
+                &m,
+                &view,
+                &settings(w, h, &format!("exact constEA {step} 1")),
+                None,
+            )
+            .unwrap();
+            errors.push(rms_diff(&fb, &reference));
+        }
+        let ratios: Vec<f64> = errors.windows(2).map(|e| e[0] / e[1]).collect();
+        eprintln!("{name}: RMS errors {errors:?} ratios {ratios:?}");
+        assert!(
+            errors[3] > 1e-7,
+            "{name}: the error reached f32 precision, the test measures nothing: {errors:?}"
+        );
+        for r in &ratios {
+            assert!(
+                (3.2..5.0).contains(r),
+                "{name}: error ratios {ratios:?} (errors {errors:?})"
+            );
+        }
+    }
+}
+
+#[test]
+fn back_to_front_equals_front_to_back() {
+    let vol = box_volume(3, [1.0; 3], 0.1, 2);
+    let m = mapping(&vol, PL_COLOR, PL_ALPHA);
+    for (_, view) in views() {
+        for method in [
+            "exact constEA 0.05 1",
+            "interpolateCoeff weightedConstEA 2",
+            "interpolateColor 1",
+            "test 0.4",
+        ] {
+            let mut s = settings(24, 24, method);
+            s.lines = LineDraw::All;
+            let a = render(&vol, &m, &view, &s, None).unwrap().0;
+            s.order = Order::FrontToBack;
+            let b = render(&vol, &m, &view, &s, None).unwrap().0;
+            assert!(
+                max_diff_fb(&a, &b) < 2e-6,
+                "{method}: {}",
+                max_diff_fb(&a, &b)
+            );
+        }
+    }
+}
+
+#[test]
+fn tiles_and_threads_do_not_change_a_single_bit() {
+    let vol = box_volume(4, [1.0; 3], 0.1, 5);
+    let m = mapping(&vol, PL_COLOR, PL_ALPHA);
+    let (_, view) = &views()[1];
+    let mut s = settings(70, 50, "exact constEA 0.03 1");
+    s.lines = LineDraw::All;
+    let one = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build()
+        .unwrap();
+    let reference = one.install(|| render(&vol, &m, view, &s, None).unwrap().0);
+    for (threads, tile) in [(2, 32), (3, 8), (4, 64), (2, 1), (1, 13)] {
+        s.tile = tile;
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let fb = pool.install(|| render(&vol, &m, view, &s, None).unwrap().0);
+        assert!(fb == reference, "{threads} threads, tiles of {tile}");
+    }
+}
+
+/// One tetrahedron seen along −z with the default camera, for each projection class.
+fn class_cases() -> Vec<(ProjClass, [[f64; 3]; 4])> {
+    let base = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    vec![
+        (
+            ProjClass::OneA,
+            [base[0], base[1], base[2], [0.3, 0.3, 0.8]],
+        ),
+        (
+            ProjClass::OneB,
+            [base[0], base[1], base[2], [0.3, 0.3, -0.8]],
+        ),
+        (
+            ProjClass::Two,
+            [
+                [0.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [1.0, 0.0, 0.7],
+                [0.0, 1.0, 0.7],
+            ],
+        ),
+        (
+            ProjClass::ThreeA,
+            [base[0], base[1], base[2], [0.5, 0.0, 0.9]],
+        ),
+        (
+            ProjClass::ThreeB,
+            [base[0], base[1], base[2], [0.5, 0.0, -0.9]],
+        ),
+        (
+            ProjClass::Four,
+            [base[0], base[1], base[2], [0.0, 0.0, 0.9]],
+        ),
+    ]
+}
+
+fn single_tet(p: [[f64; 3]; 4]) -> Volume {
+    let mesh = TetMesh::new(p.to_vec(), vec![[0, 1, 2, 3]]).unwrap();
+    let mut vol = Volume::from_mesh("tet", mesh);
+    let values: Vec<f64> = p
+        .iter()
+        .map(|q| -0.8 + 1.3 * q[0] + 0.9 * q[1] + 0.6 * q[2])
+        .collect();
+    let r = vol
+        .add_raw(RawData {
+            kind: ElementKind::Node,
+            ty: DataType::scalar(ScalarType::Double),
+            denominator: None,
+            values: Values::F64(values),
+        })
+        .unwrap();
+    vol.add_field(
+        None,
+        DataType::scalar(ScalarType::Double),
+        Interpolator::Linear,
+        &[r],
+    )
+    .unwrap();
+    vol
+}
+
+#[test]
+fn every_projection_class_is_produced_and_rendered_correctly() {
+    let camera = Camera::Ortho {
+        left: -0.2,
+        right: 1.2,
+        bottom: -0.2,
+        top: 1.2,
+        front: -5.0,
+        back: 5.0,
+    };
+    for (class, p) in class_cases() {
+        let vol = single_tet(p);
+        // The class as the renderer sees it (default view: eye space = centred file space).
+        let view = View {
+            camera: Some(camera),
+            ..View::default()
+        };
+        let c = vol.mesh.bbox().center();
+        let eye = vol.mesh.tets()[0].map(|n| {
+            let q = vol.mesh.nodes()[n as usize];
+            [q[0] - c[0], q[1] - c[1], q[2] - c[2]]
+        });
+        let proj = Projector::new(Some(&camera), [1.0; 3], 40, 40).unwrap();
+        let screen = eye.map(|q| proj.screen(q));
+        let fp = footprint(vol.mesh.tets()[0], &eye, &screen, &proj).unwrap();
+        assert_eq!(fp.projection.unwrap().class, class);
+        // Rendered exactly: against the reference, with the piecewise-linear maps.
+        let m = mapping(&vol, PL_COLOR, PL_ALPHA);
+        let reference = vorang::reference::render(&vol, &m, &view, &Options::new(40, 40));
+        let (fb, _) = render(
+            &vol,
+            &m,
+            &view,
+            &settings(40, 40, "exact constEA 0.002 1"),
+            None,
+        )
+        .unwrap();
+        let e = max_diff(&fb, &reference);
+        assert!(e < 2e-4, "class {}: exact differs by {e}", class.name());
+        // interpolateColor: where a pixel centre meets the thick point exactly, θ there is the
+        // cell's true transparency along that ray; everywhere it lies between that and 1.
+        let m = constant_maps(&vol, [0.5, 0.5, 0.5], 3.0);
+        let (fb, _) = render(
+            &vol,
+            &m,
+            &view,
+            &settings(40, 40, "interpolateColor 1"),
+            None,
+        )
+        .unwrap();
+        let reference = vorang::reference::render(&vol, &m, &view, &Options::new(40, 40));
+        for (p, q) in fb.pixels.iter().zip(&reference) {
+            assert!(
+                f64::from(p[3]) <= q[3] + 1e-6,
+                "class {}: Gouraud opacity above the truth",
+                class.name()
+            );
+        }
+        assert!(
+            fb.pixels.iter().any(|p| p[3] > 0.0),
+            "class {} drew nothing",
+            class.name()
+        );
+    }
+}
+
+#[test]
+fn many_small_cells_render_like_one_box_no_cracks_no_double_counting() {
+    let (eta, chi) = ([0.7, 0.3, 0.1], 1.7);
+    let (n1, t1) = kuhn_box([1, 1, 1], [1.0; 3], 0.0, 0);
+    let one = Volume::from_mesh("one", TetMesh::new(n1, t1).unwrap());
+    let (n2, t2) = kuhn_box([6, 6, 6], [1.0; 3], 0.0, 0);
+    let many = Volume::from_mesh("many", TetMesh::new(n2, t2).unwrap());
+    let (m1, m2) = (
+        constant_maps(&one, eta, chi),
+        constant_maps(&many, eta, chi),
+    );
+    let mut views = vec![View::default()];
+    views.extend(self::views().into_iter().map(|v| v.1));
+    views.push(View {
+        transforms: vec![TransformOp::Rotate {
+            axis: [0.0, 0.0, 1.0],
+            degrees: 90.0,
+        }],
+        ..View::default()
+    });
+    for view in &views {
+        // Odd and even sizes put pixel centres exactly on cell faces seen edge-on.
+        for size in [9, 12, 31] {
+            let s = settings(size, size, "exact constEA 0 1");
+            let a = render(&one, &m1, view, &s, None).unwrap().0;
+            let b = render(&many, &m2, view, &s, None).unwrap().0;
+            assert!(
+                max_diff_fb(&a, &b) < 1e-6,
+                "{size}×{size}: {}",
+                max_diff_fb(&a, &b)
+            );
+        }
+    }
+}
+
+/// The sort must put, on every ray, the cells it crosses in order of depth.
+#[test]
+fn mpvo_orders_random_meshes_along_every_ray() {
+    let mut rng = SplitMix64(99);
+    for trial in 0..6 {
+        let (nodes, tets) = kuhn_box([4, 3, 3], [1.0, 0.8, 0.9], 0.14, 100 + trial);
+        let mesh = TetMesh::new(nodes, tets).unwrap();
+        let r = vorang::scene::Affine::rotation(
+            [
+                rng.next_f64() - 0.5,
+                rng.next_f64() - 0.5,
+                rng.next_f64() - 0.5,
+            ],
+            360.0 * rng.next_f64(),
+        )
+        .unwrap();
+        let perspective = trial % 2 == 1;
+        let eye_nodes: Vec<[f64; 3]> = mesh
+            .nodes()
+            .iter()
+            .map(|&p| {
+                let q = r.apply([p[0] - 0.5, p[1] - 0.4, p[2] - 0.45]);
+                [q[0], q[1], q[2] - if perspective { 3.0 } else { 0.0 }]
+            })
+            .collect();
+        let order = (sort::choose(true).sort)(&SortInput {
+            mesh: &mesh,
+            eye_nodes: &eye_nodes,
+            perspective,
+        });
+        assert_eq!(order.cycle_cells, 0);
+        let mut pos = vec![0; mesh.tet_count()];
+        for (i, &c) in order.back_to_front.iter().enumerate() {
+            pos[c as usize] = i;
+        }
+        let cells: Vec<EyeCell> = mesh
+            .tets()
+            .iter()
+            .map(|t| EyeCell::new(&t.map(|n| eye_nodes[n as usize])).unwrap())
+            .collect();
+        for _ in 0..400 {
+            let (x, y) = (rng.next_f64() * 1.4 - 0.7, rng.next_f64() * 1.4 - 0.7);
+            let ray = if perspective {
+                vorang::scene::Ray {
+                    origin: [0.0; 3],
+                    dir: [x / 3.0, y / 3.0, -1.0],
+                }
+            } else {
+                vorang::scene::Ray {
+                    origin: [x, y, 0.0],
+                    dir: [0.0, 0.0, -1.0],
+                }
+            };
+            let mut hits: Vec<(f64, usize)> = cells
+                .iter()
+                .enumerate()
+                .filter_map(|(c, e)| {
+                    e.interval(&ray)
+                        .filter(|i| i.far - i.near > 1e-9)
+                        .map(|i| (i.near, c))
+                })
+                .collect();
+            hits.sort_by(|a, b| b.0.total_cmp(&a.0));
+            for w in hits.windows(2) {
+                assert!(
+                    pos[w[0].1] < pos[w[1].1],
+                    "trial {trial}: cell {} (depth {}) drawn after {} (depth {})",
+                    w[0].1,
+                    w[0].0,
+                    w[1].1,
+                    w[1].0
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn lines_are_black_opaque_and_hidden_by_the_volume_in_front() {
+    let (nodes, tets) = kuhn_box([1, 1, 1], [1.0; 3], 0.0, 0);
+    let vol = Volume::from_mesh("cube", TetMesh::new(nodes, tets).unwrap());
+    let m = constant_maps(&vol, [0.0; 3], 50.0);
+    let mut s = settings(41, 41, "exact constEA 0 1");
+    s.lines = LineDraw::All;
+    let (fb, _) = render(&vol, &m, &View::default(), &s, None).unwrap();
+    // The outline of the cube (seen along z) is a line at the very front: black, opaque.
+    let corner = fb.get(0, 0);
+    assert_eq!(corner, [0.0, 0.0, 0.0, 1.0]);
+    // A black absorbing volume in front of every line: the image is black everywhere the cube
+    // is, and the lines are there (alpha 1) too.
+    assert!(fb.pixels.iter().all(|p| p[0] < 1e-6 && p[3] > 0.99));
+    // A less absorbing volume without lines is nowhere fully opaque; with lines, the line
+    // pixels are.
+    let m5 = constant_maps(&vol, [0.0; 3], 5.0);
+    s.lines = LineDraw::Off;
+    let (fb2, _) = render(&vol, &m5, &View::default(), &s, None).unwrap();
+    assert!(fb2.pixels.iter().all(|p| p[3] < 1.0));
+    s.lines = LineDraw::All;
+    let (fb3, _) = render(&vol, &m5, &View::default(), &s, None).unwrap();
+    assert!(fb3.pixels.iter().filter(|p| p[3] == 1.0).count() > 40);
+    // A transparent emitting volume over a line: the line is attenuated, not hidden.
+    let m = constant_maps(&vol, [1.0, 0.0, 0.0], 0.5);
+    s.lines = LineDraw::All;
+    let (fb, _) = render(&vol, &m, &View::default(), &s, None).unwrap();
+    let (fb_off, _) = render(
+        &vol,
+        &m,
+        &View::default(),
+        &settings(41, 41, "exact constEA 0 1"),
+        None,
+    )
+    .unwrap();
+    let centre = (20, 20);
+    // The diagonal through the centre of the front face is a line at depth 0: nothing in front.
+    let _ = (fb.get(centre.0, centre.1), fb_off.get(centre.0, centre.1));
+    let mut darker = 0;
+    for (p, q) in fb.pixels.iter().zip(&fb_off.pixels) {
+        assert!(p[0] <= q[0] + 1e-6, "a line never adds light");
+        if p[1] < q[1] - 1e-3 {
+            darker += 1;
+        }
+    }
+    assert!(
+        darker > 20,
+        "lines remove the background behind them: {darker} pixels"
+    );
+}
+
+#[test]
+fn bad_render_requests_are_refused() {
+    let vol = box_volume(1, [1.0; 3], 0.0, 0);
+    let m = constant_maps(&vol, [1.0; 3], 1.0);
+    let view = View::default();
+    assert!(
+        render(
+            &vol,
+            &m,
+            &view,
+            &Settings {
+                width: 0,
+                ..settings(4, 4, "test 0.5")
+            },
+            None
+        )
+        .is_err()
+    );
+    assert!(
+        render(
+            &vol,
+            &m,
+            &view,
+            &Settings {
+                width: 1 << 20,
+                height: 1 << 20,
+                ..settings(4, 4, "test 0.5")
+            },
+            None
+        )
+        .is_err()
+    );
+    let bad_cam = View {
+        camera: Some(Camera::Persp {
+            fovy: 30.0,
+            aspect: 1.0,
+            near: 0.0,
+            far: 1.0,
+        }),
+        ..View::default()
+    };
+    assert!(render(&vol, &m, &bad_cam, &settings(4, 4, "test 0.5"), None).is_err());
+    let flat = View {
+        transforms: vec![TransformOp::Scale([1.0, 0.0, 1.0])],
+        ..View::default()
+    };
+    assert!(render(&vol, &m, &flat, &settings(4, 4, "test 0.5"), None).is_err());
+}
