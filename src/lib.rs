@@ -56,6 +56,7 @@ pub mod numbers;
 pub mod reference;
 pub mod render;
 pub mod scene;
+pub mod script;
 pub mod sort;
 pub mod volume;
 

@@ -1,43 +1,34 @@
-//! The `vorang` program: renders volume scripts and converts/inspects HyperMesh files.
+//! The `vorang` program: runs VoRANG scripts (Tcl with the VoRANG commands), offers an
+//! interactive prompt, and inspects, converts and generates HyperMesh files.
 
+use std::io::{IsTerminal, Read};
 use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use vorang::hypermesh::{self, Encoding, Layout, WriteOptions};
+use vorang::script::{Runner, ScriptError, Terminal};
 use vorang::{Error, Volume, info};
 
+/// Direct volume rendering of fields on tetrahedral meshes.
+///
+/// `vorang SCRIPT…` runs scripts; `vorang` alone is an interactive prompt (or reads a script from
+/// standard input); `vorang -e 'commands'` runs a string. Scripts are Tcl 8.6 with the VoRANG
+/// commands — type `help` at the prompt for the list.
 #[derive(Parser)]
-#[command(
-    name = "vorang",
-    version,
-    about = "Direct volume rendering of fields on tetrahedral meshes"
-)]
+#[command(name = "vorang", version, args_conflicts_with_subcommands = true)]
 struct Cli {
     #[command(subcommand)]
-    command: Command,
+    command: Option<Command>,
+    /// Commands to run before the scripts (may be given several times).
+    #[arg(short = 'e', long = "eval", value_name = "COMMANDS")]
+    eval: Vec<String>,
+    /// Scripts to run, in order, in one session.
+    scripts: Vec<PathBuf>,
 }
 
 #[derive(Subcommand)]
 enum Command {
-    /// Write a generated test volume: a jittered box of tetrahedra with a smooth scalar field.
-    Generate {
-        output: PathBuf,
-        /// About how many tetrahedra (6 per cube of an n×n×n grid).
-        #[arg(long, default_value_t = 20_000)]
-        tets: usize,
-        /// Move interior nodes by up to this fraction of a cube (0 … 0.15).
-        #[arg(long, default_value_t = 0.1)]
-        jitter: f64,
-        #[arg(long, default_value_t = 1)]
-        seed: u64,
-        /// Write BINARY instead of ASCII.
-        #[arg(long)]
-        binary: bool,
-        /// Full layout (triangles, tetrahedra by triangles) instead of the small one.
-        #[arg(long)]
-        full: bool,
-    },
     /// Print what a HyperMesh file holds: counts, bounding box, boundary, materials, fields.
     Info {
         /// A HyperMesh file (ASCII or BINARY; volume or data-only).
@@ -57,6 +48,24 @@ enum Command {
         #[arg(long)]
         small: bool,
     },
+    /// Write a generated test volume: a jittered box of tetrahedra with a smooth scalar field.
+    Generate {
+        output: PathBuf,
+        /// About how many tetrahedra (6 per cube of an n×n×n grid).
+        #[arg(long, default_value_t = 20_000)]
+        tets: usize,
+        /// Move interior nodes by up to this fraction of a cube (0 … 0.15).
+        #[arg(long, default_value_t = 0.1)]
+        jitter: f64,
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Write BINARY instead of ASCII.
+        #[arg(long)]
+        binary: bool,
+        /// Full layout (triangles, tetrahedra by triangles) instead of the small one.
+        #[arg(long)]
+        full: bool,
+    },
 }
 
 fn print_warnings(w: &[vorang::Warning]) {
@@ -65,38 +74,8 @@ fn print_warnings(w: &[vorang::Warning]) {
     }
 }
 
-fn run(cli: Cli) -> Result<(), Error> {
-    match cli.command {
-        Command::Generate {
-            output,
-            tets,
-            jitter,
-            seed,
-            binary,
-            full,
-        } => {
-            if !(0.0..=0.15).contains(&jitter) {
-                return Err(Error::Invalid(format!(
-                    "--jitter {jitter}: expected a value in 0 … 0.15"
-                )));
-            }
-            let vol = vorang::volume::jittered_box(tets, jitter, seed);
-            let opts = WriteOptions {
-                encoding: if binary {
-                    Encoding::Binary
-                } else {
-                    Encoding::Ascii
-                },
-                layout: if full { Layout::Full } else { Layout::Small },
-            };
-            hypermesh::save_volume(&vol, &output, opts)?;
-            eprintln!(
-                "wrote {} ({} nodes, {} tetrahedra)",
-                output.display(),
-                vol.mesh.node_count(),
-                vol.mesh.tet_count()
-            );
-        }
+fn data_command(command: Command) -> Result<(), Error> {
+    match command {
         Command::Info { file } => {
             let f = hypermesh::read_file(&file)?;
             print_warnings(&f.warnings);
@@ -137,17 +116,135 @@ fn run(cli: Cli) -> Result<(), Error> {
                 vol.data.fields.len()
             );
         }
+        Command::Generate {
+            output,
+            tets,
+            jitter,
+            seed,
+            binary,
+            full,
+        } => {
+            if !(0.0..=0.15).contains(&jitter) {
+                return Err(Error::Invalid(format!(
+                    "--jitter {jitter}: expected a value in 0 … 0.15"
+                )));
+            }
+            let vol = vorang::volume::jittered_box(tets, jitter, seed);
+            let opts = WriteOptions {
+                encoding: if binary {
+                    Encoding::Binary
+                } else {
+                    Encoding::Ascii
+                },
+                layout: if full { Layout::Full } else { Layout::Small },
+            };
+            hypermesh::save_volume(&vol, &output, opts)?;
+            eprintln!(
+                "wrote {} ({} nodes, {} tetrahedra)",
+                output.display(),
+                vol.mesh.node_count(),
+                vol.mesh.tet_count()
+            );
+        }
     }
     Ok(())
 }
 
-fn main() -> ExitCode {
-    let cli = Cli::parse();
-    match run(cli) {
-        Ok(()) => ExitCode::SUCCESS,
-        Err(e) => {
-            eprintln!("vorang: {e}");
-            ExitCode::FAILURE
+/// `file:line: message`, then Tcl's trace.
+fn report(e: &ScriptError) {
+    eprintln!("{e}");
+    if !e.trace.is_empty() && e.trace != e.message {
+        eprintln!("Tcl trace:");
+        for line in e.trace.lines() {
+            eprintln!("    {line}");
         }
     }
+}
+
+/// The interactive prompt: commands and Tcl, with line editing and history.
+fn prompt(runner: &mut Runner) -> ExitCode {
+    println!(
+        "VoRANG {} — Tcl with the VoRANG commands; 'help' lists them, 'exit' quits.",
+        env!("CARGO_PKG_VERSION")
+    );
+    let mut editor = match rustyline::DefaultEditor::new() {
+        Ok(e) => e,
+        Err(e) => {
+            eprintln!("vorang: cannot start the prompt: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let mut buffer = String::new();
+    loop {
+        match editor.readline(if buffer.is_empty() {
+            "vorang> "
+        } else {
+            "   ...> "
+        }) {
+            Ok(line) => {
+                buffer.push_str(&line);
+                buffer.push('\n');
+                if !Runner::is_complete(&buffer) {
+                    continue;
+                }
+                let _ = editor.add_history_entry(buffer.trim_end());
+                match runner.run_string(&buffer, "<prompt>") {
+                    Ok(result) if !result.is_empty() => println!("{result}"),
+                    Ok(_) => {}
+                    Err(e) => eprintln!("{e}"),
+                }
+                buffer.clear();
+            }
+            Err(rustyline::error::ReadlineError::Interrupted) => buffer.clear(),
+            Err(rustyline::error::ReadlineError::Eof) => return ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("vorang: {e}");
+                return ExitCode::FAILURE;
+            }
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    if let Some(command) = cli.command {
+        return match data_command(command) {
+            Ok(()) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("vorang: {e}");
+                ExitCode::FAILURE
+            }
+        };
+    }
+    let mut runner = Runner::new(Box::new(Terminal));
+    if cli.eval.is_empty() && cli.scripts.is_empty() {
+        if std::io::stdin().is_terminal() {
+            return prompt(&mut runner);
+        }
+        let mut script = String::new();
+        if let Err(e) = std::io::stdin().read_to_string(&mut script) {
+            eprintln!("vorang: cannot read standard input: {e}");
+            return ExitCode::FAILURE;
+        }
+        return match runner.run_string(&script, "<stdin>") {
+            Ok(_) => ExitCode::SUCCESS,
+            Err(e) => {
+                report(&e);
+                ExitCode::FAILURE
+            }
+        };
+    }
+    for script in &cli.eval {
+        if let Err(e) = runner.run_string(script, "-e") {
+            report(&e);
+            return ExitCode::FAILURE;
+        }
+    }
+    for path in &cli.scripts {
+        if let Err(e) = runner.run_file(path) {
+            report(&e);
+            return ExitCode::FAILURE;
+        }
+    }
+    ExitCode::SUCCESS
 }

@@ -40,8 +40,131 @@ fn farbraum() -> Volume {
     vol
 }
 
+/// A box of Kuhn cubes with one scalar node field `f(x, y, z)` (float).
+fn box_with(cells: [usize; 3], size: [f64; 3], name: &str, f: impl Fn([f64; 3]) -> f64) -> Volume {
+    let (nodes, tets) = kuhn_box(cells, size, 0.0, 0);
+    let values: Vec<f32> = nodes.iter().map(|&p| f(p) as f32).collect();
+    let mesh = TetMesh::new(nodes, tets).expect("valid mesh");
+    let mut vol = Volume::from_mesh(name, mesh);
+    let r = vol
+        .add_raw(RawData {
+            kind: ElementKind::Node,
+            ty: DataType::scalar(ScalarType::Float),
+            denominator: None,
+            values: Values::F32(values),
+        })
+        .expect("node data");
+    vol.add_field(
+        Some(name),
+        DataType::scalar(ScalarType::Float),
+        Interpolator::Linear,
+        &[r],
+    )
+    .expect("field");
+    vol
+}
+
+/// propEA (thesis 7.2): the red cuboid, a scalar rising from 0 on the left to 1 on the right.
+fn prop_ea() -> Volume {
+    box_with([8, 4, 4], [2.0, 1.0, 1.0], "s", |p| p[0] / 2.0)
+}
+
+/// selfMade: a slab whose scalar is 0 in its left half and rises to 1 on the right, with a
+/// bump in the middle — absorption-free and opaque regions side by side, where the thesis's
+/// integration rules differ visibly.
+fn self_made() -> Volume {
+    box_with([4, 2, 1], [2.0, 1.0, 0.5], "s", |p| {
+        let ramp = ((p[0] - 1.0) / 1.0).clamp(0.0, 1.0);
+        let bump = (-((p[0] - 0.7).powi(2) + (p[1] - 0.5).powi(2)) / 0.02).exp();
+        (ramp + 0.6 * bump).min(1.0)
+    })
+}
+
+/// nonLinTetra (thesis 7.4): one tetrahedron whose field is its barycentric coordinates
+/// (float[4], node i carries e_i), and a constant scalar 1 for the emission table.
+fn non_lin_tetra() -> Volume {
+    let nodes = vec![
+        [0.0, 0.0, 0.0],
+        [1.0, 0.0, 0.0],
+        [0.5, 0.9, 0.0],
+        [0.5, 0.3, 0.8],
+    ];
+    let mesh = TetMesh::new(nodes, vec![[0, 1, 2, 3]]).expect("valid tetrahedron");
+    let mut vol = Volume::from_mesh("nonLinTetra", mesh);
+    let bary: Vec<f32> = (0..4)
+        .flat_map(|i| (0..4).map(move |j| if i == j { 1.0 } else { 0.0 }))
+        .collect();
+    let r = vol
+        .add_raw(RawData {
+            kind: ElementKind::Node,
+            ty: DataType::array(ScalarType::Float, 4),
+            denominator: None,
+            values: Values::F32(bary),
+        })
+        .expect("node data");
+    vol.add_field(
+        Some("barycentric"),
+        DataType::array(ScalarType::Float, 4),
+        Interpolator::Linear,
+        &[r],
+    )
+    .expect("field");
+    let one = vol
+        .add_raw(RawData {
+            kind: ElementKind::Node,
+            ty: DataType::scalar(ScalarType::Float),
+            denominator: None,
+            values: Values::F32(vec![1.0; 4]),
+        })
+        .expect("node data");
+    vol.add_field(
+        Some("one"),
+        DataType::scalar(ScalarType::Float),
+        Interpolator::Linear,
+        &[one],
+    )
+    .expect("field");
+    vol
+}
+
+/// gauss: three overlapping Gaussians through GaussTest on a coarse box (the field is analytic,
+/// the mesh only bounds it).
+fn gauss() -> Volume {
+    let (nodes, tets) = kuhn_box([4, 4, 4], [2.0, 2.0, 2.0], 0.0, 0);
+    let mesh = TetMesh::new(nodes, tets).expect("valid mesh");
+    let mut vol = Volume::from_mesh("gauss", mesh);
+    #[rustfmt::skip]
+    let rows: Vec<f32> = vec![
+        0.7, 0.8, 1.0, 0.35, 1.0,
+        1.3, 1.2, 0.9, 0.30, 0.8,
+        1.0, 0.9, 1.4, 0.25, 0.6,
+    ];
+    let r = vol
+        .add_raw(RawData {
+            kind: ElementKind::Extra,
+            ty: DataType::array(ScalarType::Float, 5),
+            denominator: None,
+            values: Values::F32(rows),
+        })
+        .expect("extra data");
+    vol.add_field(
+        Some("gauss"),
+        DataType::scalar(ScalarType::Float),
+        Interpolator::GaussTest,
+        &[r],
+    )
+    .expect("field");
+    vol
+}
+
 fn scenes() -> Vec<(&'static str, Volume)> {
-    vec![("examples/farbraum/farbraum.hmesh", farbraum())]
+    vec![
+        ("examples/farbraum/farbraum.hmesh", farbraum()),
+        ("examples/propEA/propEA.hmesh", prop_ea()),
+        ("examples/selfMade/selfMade.hmesh", self_made()),
+        ("examples/nonLinTetra/nonLinTetra.hmesh", non_lin_tetra()),
+        ("examples/gauss/gauss.hmesh", gauss()),
+    ]
 }
 
 #[test]

@@ -1,0 +1,74 @@
+//! Image settings: `imagesize`, `output`, `set_nr`, `background` (thesis A.1 „Bildangaben“).
+
+use std::sync::Arc;
+
+use super::{Call, CommandInfo};
+use crate::framebuffer::{Background, BackgroundImage, format_for};
+use crate::script::Session;
+
+pub const IMAGESIZE: CommandInfo = CommandInfo {
+    name: "imagesize",
+    usage: "width height",
+    summary: "size of the images in pixels",
+    details: "Default 512 512.",
+    run: |s: &mut Session, c: &Call| {
+        c.expect(2..=2)?;
+        let (w, h) = (c.count(0, "width")?, c.count(1, "height")?);
+        crate::render::check_size(w, h).map_err(|e| format!("imagesize: {e}"))?;
+        s.settings.width = w;
+        s.settings.height = h;
+        Ok(String::new())
+    },
+};
+
+pub const OUTPUT: CommandInfo = CommandInfo {
+    name: "output",
+    usage: "base.format",
+    summary: "base name and format of the images: 'output img.png' writes img.0001.png, img.0002.png …",
+    details: "The format follows the extension: tiff/tif (default: vorang.tiff), png, bmp, tga, ppm/pnm, pgm, pam, jpg/jpeg, gif, ico, qoi, webp, hdr, exr, pfm (float RGB), rgb/sgi/rgba (SGI). 8-bit formats clip to [0, 1]; exr, pfm and hdr keep the floats. Missing folders are created.",
+    run: |s: &mut Session, c: &Call| {
+        c.expect(1..=1)?;
+        let path = c.path(0);
+        format_for(&path).map_err(|e| e.to_string())?;
+        s.output = path;
+        Ok(String::new())
+    },
+};
+
+pub const SET_NR: CommandInfo = CommandInfo {
+    name: "set_nr",
+    usage: "number",
+    summary: "the number the next image gets in its file name",
+    details: "The first image is number 1 (base.0001.ext); every render counts up.",
+    run: |s: &mut Session, c: &Call| {
+        c.expect(1..=1)?;
+        let n = c.count(0, "number")?;
+        s.next_number = u32::try_from(n).map_err(|_| format!("set_nr: {n} is too large"))?;
+        Ok(String::new())
+    },
+};
+
+pub const BACKGROUND: CommandInfo = CommandInfo {
+    name: "background",
+    usage: "file|clear|r g b",
+    summary: "an image under the volume (resampled to the image size), 'clear' for uniform white, or a uniform colour",
+    details: "Default: uniform white. The image's 8-bit values count as intensities 0…1. A colour (e.g. 'background 0 0 0') is an extension of the thesis's command.",
+    run: |s: &mut Session, c: &Call| {
+        if c.args().len() == 3 {
+            let rgb = c.numbers(0, ["r", "g", "b"])?;
+            if rgb.iter().any(|v| *v < 0.0) {
+                return Err("background: colour components must be ≥ 0".into());
+            }
+            s.settings.background = Background::Color(rgb);
+            return Ok(String::new());
+        }
+        c.expect(1..=1)?;
+        if c.args()[0] == "clear" {
+            s.settings.background = Background::default();
+        } else {
+            let img = BackgroundImage::load(&c.path(0)).map_err(|e| e.to_string())?;
+            s.settings.background = Background::Image(Arc::new(img));
+        }
+        Ok(String::new())
+    },
+};

@@ -1,0 +1,143 @@
+//! `method`, `render_btf`, `render_ftb` (thesis A.1 „Berechnungsmethoden“).
+
+use std::io::{IsTerminal, Write};
+use std::sync::Mutex;
+use std::time::Instant;
+
+use super::{Call, CommandInfo};
+use crate::framebuffer::{format_for, numbered, write_image};
+use crate::mapping::Mapping;
+use crate::render::{Method, Order, Settings, render};
+use crate::script::Session;
+
+pub const METHOD: CommandInfo = CommandInfo {
+    name: "method",
+    usage: "name ?parameters?",
+    summary: "the approximation method: exact integration step brightness | interpolateCoeff integration brightness | interpolateColor brightness | test opacity",
+    details: "Default: test 0.5. Integration rules: trapez, constEA, weightedConstEA. 'step' is the largest distance between samples in world units (0: the whole cell interval); 'brightness' scales all emission.",
+    run: |s: &mut Session, c: &Call| {
+        let words: Vec<&str> = c.args().iter().map(String::as_str).collect();
+        s.settings.method = Method::parse(&words).map_err(|e| format!("method: {e}"))?;
+        Ok(String::new())
+    },
+};
+
+/// A progress bar on standard error, shown for renders running longer than a second when
+/// standard error is a terminal.
+struct Progress {
+    start: Instant,
+    shown: Mutex<Option<usize>>,
+    enabled: bool,
+}
+
+impl Progress {
+    fn new() -> Progress {
+        Progress {
+            start: Instant::now(),
+            shown: Mutex::new(None),
+            enabled: std::io::stderr().is_terminal(),
+        }
+    }
+
+    fn update(&self, done: usize, total: usize) {
+        if !self.enabled || self.start.elapsed().as_secs_f64() < 1.0 || total == 0 {
+            return;
+        }
+        let percent = done * 100 / total;
+        let Ok(mut shown) = self.shown.lock() else {
+            return;
+        };
+        if *shown == Some(percent) {
+            return;
+        }
+        *shown = Some(percent);
+        let bar = "#".repeat(percent / 4) + &" ".repeat(25 - percent / 4);
+        eprint!("\rrendering [{bar}] {percent:3}%");
+        let _ = std::io::stderr().flush();
+    }
+
+    fn clear(&self) {
+        if self.shown.lock().is_ok_and(|s| s.is_some()) {
+            eprint!("\r{}\r", " ".repeat(40));
+        }
+    }
+}
+
+fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, String> {
+    c.expect(0..=1)?;
+    match c.args().first().map(String::as_str) {
+        None | Some("remote") => {}
+        Some("online") => s.reporter.warn(&format!(
+            "{}: online display is not available here; the image is written to the output file",
+            c.info.name
+        )),
+        Some(other) => {
+            return Err(format!(
+                "{}: expected online or remote, found '{other}'",
+                c.info.name
+            ));
+        }
+    }
+    let vol = s
+        .volume
+        .clone()
+        .ok_or_else(|| format!("{}: no volume loaded: use 'volume file' first", c.info.name))?;
+    let (mapping, warnings) =
+        Mapping::new(&s.colormap, &s.alphamap, &vol).map_err(|e| e.to_string())?;
+    for w in warnings {
+        s.reporter.warn(&w.to_string());
+    }
+    let path = numbered(&s.output, s.next_number);
+    format_for(&path).map_err(|e| e.to_string())?;
+    let settings = Settings {
+        order,
+        ..s.settings.clone()
+    };
+    let progress = Progress::new();
+    let started = Instant::now();
+    let result = render(
+        &vol,
+        &mapping,
+        &s.view,
+        &settings,
+        Some(&|d, t| progress.update(d, t)),
+    );
+    progress.clear();
+    let (fb, stats) = result.map_err(|e| format!("{}: {e}", c.info.name))?;
+    let seconds = started.elapsed().as_secs_f64();
+    write_image(&fb, &path).map_err(|e| e.to_string())?;
+    s.next_number += 1;
+    if stats.cycle_cells > 0 {
+        s.reporter.warn(&format!(
+            "{}: {} cells were in visibility cycles; their order is approximate",
+            c.info.name, stats.cycle_cells
+        ));
+    }
+    s.reporter.info(&format!(
+        "{}  {}×{}  {} cells  {:.3} s  max {}",
+        crate::script::locate_display(&path),
+        fb.width,
+        fb.height,
+        stats.cells,
+        seconds,
+        fb.max_channel()
+    ));
+    s.written.push(path.clone());
+    Ok(path.display().to_string())
+}
+
+pub const RENDER_BTF: CommandInfo = CommandInfo {
+    name: "render_btf",
+    usage: "?online|remote?",
+    summary: "render back to front and write the next numbered image; prints the file, size, cells, seconds and the largest channel value",
+    details: "The largest R/G/B value helps tune the brightness factor: above 1, 8-bit formats clip.",
+    run: |s: &mut Session, c: &Call| render_command(s, c, Order::BackToFront),
+};
+
+pub const RENDER_FTB: CommandInfo = CommandInfo {
+    name: "render_ftb",
+    usage: "?online|remote?",
+    summary: "render front to back (stops early where the volume turns opaque) and write the next numbered image",
+    details: "Same image as render_btf up to the early-termination threshold (transparency below 1e-6).",
+    run: |s: &mut Session, c: &Call| render_command(s, c, Order::FrontToBack),
+};

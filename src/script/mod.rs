@@ -1,0 +1,265 @@
+//! The script language (thesis 4.2 and appendix A, SPEC §9): real Tcl 8.6 extended by the VoRANG
+//! commands.
+//!
+//! Commands edit a plain [`Session`] (paths, numbers, names — DESIGN §3); `render_btf` and
+//! `render_ftb` bind maps to the volume, render and write the image. Errors stop the script
+//! with `file:line: message`, also inside procs and loop bodies: failing VoRANG commands locate
+//! themselves with `info frame`; for errors Tcl raises itself the `errorInfo` trace is walked
+//! back to a file line (procedure bodies are located when they are defined).
+
+mod commands;
+mod locate;
+pub mod tcl;
+
+use std::cell::RefCell;
+use std::path::{Path, PathBuf};
+use std::rc::Rc;
+use std::sync::Arc;
+
+pub use commands::{COMMANDS, CommandInfo};
+
+use crate::mapping::{AlphaMap, ColorMap};
+use crate::render::Settings;
+use crate::scene::View;
+use crate::volume::Volume;
+use tcl::Interp;
+
+/// Where messages go: the render line and notes to standard output, warnings to standard
+/// error — or into a buffer for tests.
+pub trait Reporter {
+    fn info(&mut self, text: &str);
+    fn warn(&mut self, text: &str);
+    /// Render progress (`done` of `total` tiles), called from the render threads' side.
+    fn progress(&self, _done: usize, _total: usize) {}
+}
+
+/// Prints to the terminal, with a progress bar on standard error if it is a terminal.
+#[derive(Debug, Default)]
+pub struct Terminal;
+
+impl Reporter for Terminal {
+    fn info(&mut self, text: &str) {
+        println!("{text}");
+    }
+    fn warn(&mut self, text: &str) {
+        eprintln!("{text}");
+    }
+}
+
+/// Collects messages (for tests and embedding).
+#[derive(Debug, Default, Clone)]
+pub struct Collect {
+    pub info: Vec<String>,
+    pub warnings: Vec<String>,
+}
+
+impl Reporter for Collect {
+    fn info(&mut self, text: &str) {
+        self.info.push(text.to_string());
+    }
+    fn warn(&mut self, text: &str) {
+        self.warnings.push(text.to_string());
+    }
+}
+
+/// A light from `addlight` (stored for the shading method that will use them).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Light {
+    pub color: [f64; 3],
+    pub direction: [f64; 3],
+}
+
+/// The state scripts edit.
+pub struct Session {
+    pub volume: Option<Arc<Volume>>,
+    pub colormap: ColorMap,
+    pub alphamap: AlphaMap,
+    pub view: View,
+    /// Image size, method, grid lines, background (the compositing order is chosen per render).
+    pub settings: Settings,
+    /// `output base.fmt`, resolved against the script's folder.
+    pub output: PathBuf,
+    /// The number of the next image (the first is 1).
+    pub next_number: u32,
+    pub lights: Vec<Light>,
+    pub reporter: Box<dyn Reporter>,
+    /// Files written by renders, in order.
+    pub written: Vec<PathBuf>,
+}
+
+impl Session {
+    pub fn new(reporter: Box<dyn Reporter>) -> Session {
+        Session {
+            volume: None,
+            colormap: ColorMap::default_map(),
+            alphamap: AlphaMap::default_map(),
+            view: View::default(),
+            settings: Settings::default(),
+            output: PathBuf::from("vorang.tiff"),
+            next_number: 1,
+            lights: Vec::new(),
+            reporter,
+            written: Vec::new(),
+        }
+    }
+}
+
+/// A path for messages: relative to the current folder when inside it.
+pub fn locate_display(path: &Path) -> String {
+    locate::display_path(&path.display().to_string())
+}
+
+/// A script error located in a file.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct ScriptError {
+    /// The script file (or `-e`, `<stdin>`) and line of the failing command.
+    pub file: String,
+    pub line: usize,
+    pub message: String,
+    /// Tcl's stack trace (`errorInfo`).
+    pub trace: String,
+}
+
+impl std::fmt::Display for ScriptError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}:{}: {}", self.file, self.line, self.message)
+    }
+}
+
+impl std::error::Error for ScriptError {}
+
+/// A Tcl interpreter with the VoRANG commands, sharing one session.
+pub struct Runner {
+    interp: Interp,
+    session: Rc<RefCell<Session>>,
+    /// Where the last failing VoRANG command was called from: (message, file, line).
+    last_failure: Rc<RefCell<Option<(String, String, usize)>>>,
+}
+
+/// Tcl set up before any script runs: procedure bodies are recorded where they are defined,
+/// so that errors inside them can be traced to a file line.
+const PRELUDE: &str = r#"
+namespace eval ::vorang { variable procline }
+proc ::vorang::proc_defined {cmd op} {
+    set f [info frame -2]
+    if {![dict exists $f file] || ![dict exists $f line] || ![dict exists $f cmd]} return
+    set body [lindex $cmd end]
+    set src [dict get $f cmd]
+    set at [string last $body $src]
+    set skip [expr {$at <= 0 ? 0 : [regexp -all "\n" [string range $src 0 [expr {$at - 1}]]]}]
+    set ::vorang::procline([namespace tail [lindex $cmd 1]]) [list [dict get $f file] [expr {[dict get $f line] + $skip}]]
+}
+trace add execution proc enter ::vorang::proc_defined
+# Paths in a script are relative to its folder (SPEC §9), for `source` too.
+rename ::source ::vorang::tcl_source
+proc ::source {args} {
+    set path [lindex $args end]
+    set here [info script]
+    if {$here ne "" && [file pathtype $path] eq "relative"} {
+        set path [file join [file dirname $here] $path]
+    }
+    uplevel 1 [list ::vorang::tcl_source {*}[lrange $args 0 end-1] $path]
+}
+"#;
+
+impl Runner {
+    pub fn new(reporter: Box<dyn Reporter>) -> Runner {
+        let mut interp = Interp::new();
+        let session = Rc::new(RefCell::new(Session::new(reporter)));
+        let last_failure = Rc::new(RefCell::new(None));
+        // The prelude is a fixed, valid script.
+        let _ = interp.eval(PRELUDE);
+        for info in COMMANDS {
+            let session = Rc::clone(&session);
+            let failure = Rc::clone(&last_failure);
+            let run = info.run;
+            interp.register(
+                info.name,
+                Box::new(move |interp: &Interp, words: &[String]| {
+                    let call = commands::Call::new(info, interp, words);
+                    let result = match session.try_borrow_mut() {
+                        Ok(mut s) => run(&mut s, &call),
+                        Err(_) => Err(format!(
+                            "{} cannot run while another VoRANG command is running",
+                            info.name
+                        )),
+                    };
+                    if let Err(message) = &result {
+                        let (file, line) = locate::caller(interp);
+                        *failure.borrow_mut() = Some((message.clone(), file, line));
+                    }
+                    result
+                }),
+            );
+        }
+        Runner {
+            interp,
+            session,
+            last_failure,
+        }
+    }
+
+    /// The session the commands edit.
+    pub fn session(&self) -> std::cell::RefMut<'_, Session> {
+        self.session.borrow_mut()
+    }
+
+    /// Runs a script file. Relative paths in it are relative to its folder.
+    pub fn run_file(&mut self, path: &Path) -> Result<(), ScriptError> {
+        if !path.is_file() {
+            return Err(ScriptError {
+                file: path.display().to_string(),
+                line: 0,
+                message: if path.exists() {
+                    "not a file".into()
+                } else {
+                    "no such script file".into()
+                },
+                trace: String::new(),
+            });
+        }
+        *self.last_failure.borrow_mut() = None;
+        self.interp
+            .eval_file(path)
+            .map(|_| ())
+            .map_err(|e| self.locate(e, &path.display().to_string()))
+    }
+
+    /// Evaluates a string (`vorang -e`, the prompt); `label` names it in messages.
+    pub fn run_string(&mut self, script: &str, label: &str) -> Result<String, ScriptError> {
+        *self.last_failure.borrow_mut() = None;
+        self.interp.eval(script).map_err(|e| self.locate(e, label))
+    }
+
+    fn locate(&self, e: tcl::TclError, label: &str) -> ScriptError {
+        let ours = self.last_failure.borrow_mut().take();
+        let (file, line) = match ours {
+            Some((msg, file, line)) if msg == e.message => (
+                if file.is_empty() {
+                    label.to_string()
+                } else {
+                    file
+                },
+                line,
+            ),
+            _ => locate::from_trace(&e, label, |name| {
+                let entry = self
+                    .interp
+                    .get_var(&format!("::vorang::procline({name})"))?;
+                let parts = self.interp.split_list(&entry).ok()?;
+                Some((parts.first()?.clone(), parts.get(1)?.parse().ok()?))
+            }),
+        };
+        ScriptError {
+            file: locate::display_path(&file),
+            line,
+            message: e.message,
+            trace: e.info,
+        }
+    }
+
+    /// True if `text` is a complete Tcl command (for the interactive prompt).
+    pub fn is_complete(text: &str) -> bool {
+        Interp::complete(text)
+    }
+}
