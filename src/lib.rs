@@ -43,6 +43,7 @@
 // `grads[i][k]`), which reads like the formulas it implements; iterator chains would not.
 #![allow(clippy::needless_range_loop)]
 
+pub mod accuracy;
 pub mod atomic;
 pub mod error;
 pub mod field;

@@ -144,7 +144,7 @@ fn camera_to_world(l: &LookAt) -> M4 {
 }
 
 /// Gauss–Legendre nodes and weights on [0, 1] (10 points, exact for degree 19).
-const GL: [(f64, f64); 10] = {
+pub const GL: [(f64, f64); 10] = {
     // Abscissae and weights on [−1, 1], mapped to [0, 1].
     const X: [f64; 5] = [
         0.148_874_338_981_631_2,

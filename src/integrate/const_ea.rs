@@ -8,6 +8,7 @@ pub const INFO: RuleInfo = RuleInfo {
     name: "constEA",
     summary: "constant emission/absorption at their means: b = η̄·(1−θ)/χ̄",
     rule,
+    exact_for_linear: false,
 };
 
 pub fn rule(s: &Segment) -> Contribution {

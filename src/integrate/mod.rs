@@ -6,6 +6,7 @@
 //! the tests that run over every rule read that table.
 
 pub mod const_ea;
+pub mod linear;
 mod trapez;
 mod weighted_const_ea;
 
@@ -17,6 +18,9 @@ pub struct Segment {
     /// χ at the far and near end.
     pub chi: [f64; 2],
     pub ds: f64,
+    /// η in the middle, where it varies quadratically (emission weighted by a varying
+    /// absorption); only the `linear` rule uses it, the others treat η as linear.
+    pub eta_mid: Option<[f64; 3]>,
 }
 
 /// `(b, θ)`: the segment's intensity (RGB, before the brightness factor) and transparency.
@@ -30,6 +34,9 @@ pub struct RuleInfo {
     pub name: &'static str,
     pub summary: &'static str,
     pub rule: Rule,
+    /// Exact for η (up to quadratic) and χ linear along the segment: the `exact` method then
+    /// cuts the ray at the maps' breakpoints and samples η in the middle of each piece.
+    pub exact_for_linear: bool,
 }
 
 impl std::fmt::Debug for RuleInfo {
@@ -46,7 +53,12 @@ impl PartialEq for RuleInfo {
 }
 
 /// Every integration rule, in the thesis's order.
-pub const RULES: &[RuleInfo] = &[trapez::INFO, const_ea::INFO, weighted_const_ea::INFO];
+pub const RULES: &[RuleInfo] = &[
+    trapez::INFO,
+    const_ea::INFO,
+    weighted_const_ea::INFO,
+    linear::INFO,
+];
 
 /// The rule called `name`.
 pub fn find(name: &str) -> Option<&'static RuleInfo> {
@@ -103,6 +115,7 @@ mod tests {
                     eta: [[eta; 3]; 2],
                     chi: [chi; 2],
                     ds,
+                    eta_mid: None,
                 };
                 let (b, theta) = (info.rule)(&s);
                 let (eb, et) = exact_constant(eta, chi, ds);

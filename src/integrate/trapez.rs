@@ -7,6 +7,7 @@ pub const INFO: RuleInfo = RuleInfo {
     name: "trapez",
     summary: "trapezoid rule: b = ½(η_far·θ + η_near)·Δs",
     rule,
+    exact_for_linear: false,
 };
 
 pub fn rule(s: &Segment) -> Contribution {

@@ -8,6 +8,7 @@ pub const INFO: RuleInfo = RuleInfo {
     name: "weightedConstEA",
     summary: "as constEA with η̄ = η_far·θ + η_near·(1−θ)",
     rule,
+    exact_for_linear: false,
 };
 
 pub fn rule(s: &Segment) -> Contribution {

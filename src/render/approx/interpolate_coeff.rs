@@ -82,6 +82,7 @@ impl Approx for InterpolateCoeff {
             eta: [far.0, near.0],
             chi: [far.1, near.1],
             ds: (px.far - px.near) * px.ray.speed(),
+            eta_mid: None,
         };
         let (b, theta) = (self.rule.rule)(&seg);
         (b.map(|v| v * self.brightness), theta)

@@ -110,6 +110,7 @@ impl Approx for InterpolateColor {
                     eta: [far.0, near.0],
                     chi: [far.1, near.1],
                     ds: (px.far - px.near) * px.ray.speed(),
+                    eta_mid: None,
                 };
                 let (b, theta) = const_ea_rule(&seg);
                 (b.map(|x| x * self.brightness), theta)

@@ -40,6 +40,7 @@ pub struct Scratch {
     pub values: Vec<f64>,
     pub values2: Vec<f64>,
     pub ends: Vec<([f64; 3], f64)>,
+    pub cuts: Vec<f64>,
 }
 
 /// An approximation method: per-cell preparation and per-pixel contribution `(b, θ)`, with the
@@ -159,7 +160,7 @@ fn non_negative(word: &str, what: &str) -> Result<f64, String> {
 
 /// Combines segment contributions given far to near into one `(b, θ)`.
 #[inline]
-fn accumulate(acc: &mut ([f64; 3], f64), piece: ([f64; 3], f64)) {
+pub(crate) fn accumulate(acc: &mut ([f64; 3], f64), piece: ([f64; 3], f64)) {
     let (b, theta) = piece;
     for c in 0..3 {
         acc.0[c] = acc.0[c] * theta + b[c];
