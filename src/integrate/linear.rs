@@ -89,23 +89,40 @@ const RECIPROCAL: [f64; 96] = {
 /// Regime 1: `e^{−(c·w + k·w²)} = Σ q_j wʲ` with `(j+1)·q_{j+1} = −c·q_j − 2k·q_{j−1}`, so
 /// `J_n = Σ q_j/(n + j + 1)`. For `|c| + |k| ≲ 2` the terms fall like `2ʲ/j!`.
 fn taylor(c: f64, k: f64) -> [f64; 3] {
-    let (mut prev, mut q) = (0.0, 1.0);
-    let mut j = [1.0, 0.5, 1.0 / 3.0];
-    // q_{n+1} adds q_{n+1}/(n+2), /(n+3), /(n+4) to J0, J1, J2.
-    for n in 0..90 {
-        let next = (-c * q - 2.0 * k * prev) * RECIPROCAL[n + 1];
-        prev = q;
-        q = next;
-        j[0] += q * RECIPROCAL[n + 2];
-        j[1] += q * RECIPROCAL[n + 3];
-        j[2] += q * RECIPROCAL[n + 4];
+    // The series is a chain and its latency is the cost, so it advances two terms per step:
+    // with α_n = −c/(n+1) and β_n = −2k/(n+1),
+    //   q_{n+1} = α_n·q_n + β_n·q_{n−1},
+    //   q_{n+2} = (α_{n+1}·α_n + β_{n+1})·q_n + α_{n+1}·β_n·q_{n−1},
+    // both from the same pair, with coefficients that do not wait for the chain. Odd and even
+    // terms go to separate sums for the same reason.
+    let (c2, ck) = (c * c, c * k);
+    let (mut prev, mut q) = (0.0, 1.0); // q_{n−1}, q_n
+    let mut even = [1.0, 0.5, 1.0 / 3.0];
+    let mut odd = [0.0; 3];
+    let mut n = 0;
+    while n < 88 {
+        let (r1, r2) = (RECIPROCAL[n + 1], RECIPROCAL[n + 2]);
+        let (a0, b0) = (-c * r1, -2.0 * k * r1);
+        let a = c2 * r1 * r2 - 2.0 * k * r2;
+        let b = 2.0 * ck * r1 * r2;
+        let q1 = a0 * q + b0 * prev;
+        let q2 = a * q + b * prev;
+        for (m, s) in odd.iter_mut().enumerate() {
+            *s += q1 * RECIPROCAL[n + 2 + m];
+        }
+        for (m, s) in even.iter_mut().enumerate() {
+            *s += q2 * RECIPROCAL[n + 3 + m];
+        }
+        prev = q1;
+        q = q2;
+        n += 2;
         // Two small coefficients in a row end it (one alone may be zero, e.g. q₁ = −c = 0).
-        let small = 1e-17 * j[2].abs();
+        let small = 1e-17 * (even[2] + odd[2]).abs();
         if q.abs() <= small && prev.abs() <= small {
             break;
         }
     }
-    j
+    [even[0] + odd[0], even[1] + odd[1], even[2] + odd[2]]
 }
 
 /// `E_j(c) = ∫₀¹ wʲ e^{−c·w} dw` for `j = 0 ..= jmax` (`c ≥ 0`).

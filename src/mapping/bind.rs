@@ -2,7 +2,9 @@
 //! evaluate per sample collected (each once, shared by both maps — the thesis's `field:global`
 //! optimisation), and η, χ evaluated from those values.
 
-use super::{AlphaMap, AlphaShading, ColorMap, ColorShading, FieldNeed, MapFile, Point, Shape};
+use super::{
+    AlphaMap, AlphaShading, ColorMap, ColorShading, FieldNeed, MapFile, Point, Shape, Transfer1D,
+};
 use crate::error::{ParseError, Warning};
 use crate::field::Interpolator;
 use crate::volume::Volume;
@@ -444,6 +446,46 @@ impl Mapping {
             return (Shape::Nonlinear, Shape::Nonlinear);
         }
         (eta, chi)
+    }
+
+    /// The mapping as one merged 1D transfer function over a linearly interpolated scalar field,
+    /// if it has that form (no categories, table or constant methods, at most one field, and
+    /// that one Linear) — see [`Transfer1D`].
+    pub fn transfer(&self, vol: &Volume) -> Option<Transfer1D> {
+        if self.color_layout.category.is_some() || self.alpha_layout.category.is_some() {
+            return None;
+        }
+        let (color, alpha) = (self.color.lines.first()?, self.alpha.lines.first()?);
+        let (c, a) = (color.method.scalar_form()?, alpha.method.scalar_form()?);
+        let slots = [self.color_layout.lines[0], self.alpha_layout.lines[0]];
+        let mut field = None;
+        for slot in slots.into_iter().flatten() {
+            let k = self.slots.iter().position(|x| *x == slot)?;
+            let n = self.fields[k];
+            if field.is_some_and(|f| f != n) {
+                return None;
+            }
+            field = Some(n);
+        }
+        let node_values = match field {
+            None => Vec::new(),
+            Some(n) => {
+                let f = &vol.data.fields[n];
+                if f.interpolator != Interpolator::Linear || !f.is_scalar() {
+                    return None;
+                }
+                let raw = &vol.data.raw[f.sources[0]];
+                (0..vol.mesh.node_count())
+                    .map(|i| raw.value(i, 0))
+                    .collect()
+            }
+        };
+        Some(Transfer1D::new(
+            c,
+            color.method.uses_absorption(),
+            a,
+            node_values,
+        ))
     }
 
     pub fn color_map(&self) -> &ColorMap {

@@ -17,6 +17,7 @@ mod block;
 mod color;
 mod parse;
 mod table;
+mod transfer;
 
 use std::fmt;
 use std::sync::Arc;
@@ -25,6 +26,7 @@ pub use bind::{Lines, Mapping};
 pub use block::ParamBlock;
 pub use parse::{parse_map, read_map};
 pub use table::{ByteTable, Table};
+pub use transfer::{ScalarAlpha, ScalarColor, Transfer1D};
 
 /// How a shading result varies with its field value between two breakpoints (for a linearly
 /// interpolated field: how it varies along a ray segment).
@@ -115,6 +117,11 @@ pub trait ColorShading: Send + Sync + fmt::Debug {
     fn defined_bytes(&self) -> Option<[bool; 256]> {
         None
     }
+    /// The method as a piecewise-linear function of one scalar (before a χ factor), if it is
+    /// one: lets the renderer use the merged [`Transfer1D`].
+    fn scalar_form(&self) -> Option<ScalarColor<'_>> {
+        None
+    }
 }
 
 /// An alpha shading method: data → absorption χ.
@@ -130,6 +137,10 @@ pub trait AlphaShading: Send + Sync + fmt::Debug {
     /// `|v1 − v2|` kink of BARY_SHADING 3).
     fn cuts(&self, _v0: &[f64], _v1: &[f64], _out: &mut Vec<f64>) {}
     fn defined_bytes(&self) -> Option<[bool; 256]> {
+        None
+    }
+    /// The method as a piecewise-linear function of one scalar, if it is one.
+    fn scalar_form(&self) -> Option<ScalarAlpha<'_>> {
         None
     }
 }

@@ -59,9 +59,10 @@ pub fn barycentric_gradients(c: &[[f64; 3]; 4]) -> Option<[[f64; 3]; 4]> {
         return None;
     }
     // Rows of the inverse of [e1 e2 e3] (columns): ∇λ1 = (e2×e3)/det, etc.
-    let g1 = cross(e2, e3).map(|v| v / det);
-    let g2 = cross(e3, e1).map(|v| v / det);
-    let g3 = cross(e1, e2).map(|v| v / det);
+    let scaled = |v: [f64; 3]| [v[0] / det, v[1] / det, v[2] / det];
+    let g1 = scaled(cross(e2, e3));
+    let g2 = scaled(cross(e3, e1));
+    let g3 = scaled(cross(e1, e2));
     let g0 = [
         -(g1[0] + g2[0] + g3[0]),
         -(g1[1] + g2[1] + g3[1]),

@@ -109,6 +109,19 @@ pub struct TetMesh {
     bbox: Aabb,
     reoriented: usize,
     boundary_faces: usize,
+    /// Whether the mesh is convex, decided on first use (it picks the visibility sort and costs
+    /// a pass over the boundary — worth doing once, not every frame).
+    convex: ConvexCache,
+}
+
+/// A lazily computed property that takes no part in comparisons.
+#[derive(Debug, Clone, Default)]
+struct ConvexCache(std::sync::OnceLock<bool>);
+
+impl PartialEq for ConvexCache {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
 }
 
 impl TetMesh {
@@ -162,6 +175,7 @@ impl TetMesh {
             bbox,
             reoriented,
             boundary_faces,
+            convex: ConvexCache::default(),
         })
     }
 
@@ -224,6 +238,12 @@ impl TetMesh {
     /// The three node indices of face `face` of `tet`, outward-oriented.
     pub fn face_nodes(&self, tet: usize, face: usize) -> [u32; 3] {
         FACE_NODES[face].map(|k| self.tets[tet][k])
+    }
+
+    /// Whether the mesh is convex (its boundary faces all bound one convex region), computed
+    /// once.
+    pub fn is_convex(&self) -> bool {
+        *self.convex.0.get_or_init(|| crate::sort::is_convex(self))
     }
 
     pub fn node_count(&self) -> usize {

@@ -1,13 +1,15 @@
-//! One cell in eye space: where a ray enters and leaves it, and barycentric coordinates along
-//! the ray.
+//! One cell in eye space: where a pixel's ray enters and leaves it, and barycentric coordinates
+//! along the ray.
 //!
 //! The barycentric coordinates λ_i are affine functions of position, positive inside the cell;
-//! λ_i = 0 is the plane of face i. Along a ray `o + τ·d` each is `a_i + τ·b_i`, so the ray is
-//! inside for τ in the intersection of four half-lines — exact for perspective and orthographic
-//! rays alike.
+//! λ_i = 0 is the plane of face i. Along the ray of the pixel at screen position (x, y),
+//! `o + τ·d`, each is `a_i + τ·b_i`, and both `a_i` and `b_i` are affine functions of (x, y) —
+//! for orthographic rays `b_i` is even constant. [`CellRays`] holds those affine functions, so
+//! that per pixel the interval costs a few multiply-adds and at most four divisions — exact for
+//! perspective and orthographic rays alike.
 
 use crate::mesh::barycentric_gradients;
-use crate::scene::Ray;
+use crate::scene::{Projector, Ray};
 
 /// A cell's barycentric functions λ_i(p) = g_i·p + h_i in eye space.
 #[derive(Debug, Clone, Copy)]
@@ -34,7 +36,12 @@ impl Interval {
     /// Barycentric coordinates at parameter τ.
     #[inline]
     pub fn lambda(&self, tau: f64) -> [f64; 4] {
-        [0, 1, 2, 3].map(|i| self.a[i] + tau * self.b[i])
+        [
+            self.a[0] + tau * self.b[0],
+            self.a[1] + tau * self.b[1],
+            self.a[2] + tau * self.b[2],
+            self.a[3] + tau * self.b[3],
+        ]
     }
 }
 
@@ -49,57 +56,150 @@ impl EyeCell {
     }
 
     /// The part of `ray` inside the cell, or `None` if the ray misses it or only touches it.
-    #[inline]
     pub fn interval(&self, ray: &Ray) -> Option<Interval> {
         let (o, d) = (ray.origin, ray.dir);
-        let mut a = [0.0; 4];
-        let mut b = [0.0; 4];
-        let (mut near, mut far) = (f64::NEG_INFINITY, f64::INFINITY);
-        let (mut entry_face, mut exit_face) = (0, 0);
+        let a = [0, 1, 2, 3]
+            .map(|i| self.g[i][0] * o[0] + self.g[i][1] * o[1] + self.g[i][2] * o[2] + self.h[i]);
+        let b =
+            [0, 1, 2, 3].map(|i| self.g[i][0] * d[0] + self.g[i][1] * d[1] + self.g[i][2] * d[2]);
         let d_len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-        for i in 0..4 {
-            let g = self.g[i];
-            a[i] = g[0] * o[0] + g[1] * o[1] + g[2] * o[2] + self.h[i];
-            b[i] = g[0] * d[0] + g[1] * d[1] + g[2] * d[2];
-            // A face (numerically) parallel to the ray is seen edge-on: the ray runs in its
-            // plane only on the outline of the cell's footprint, where the scan conversion has
-            // already decided, exactly once, which cell owns the pixel. It bounds nothing.
-            let g_len = (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt();
-            if b[i].abs() <= 1e-12 * g_len * d_len {
-                if a[i] < -1e-9 {
-                    return None;
-                }
-                continue;
+        let tol = self
+            .g
+            .map(|g| PARALLEL * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt() * d_len);
+        clip(a, b, &tol)
+    }
+}
+
+/// A face whose `|b|` is below this fraction of `|g|·|d|` is parallel to the ray: seen edge-on.
+/// The ray runs in its plane only on the outline of the cell's footprint, where the scan
+/// conversion has already decided, exactly once, which cell owns the pixel — so it bounds
+/// nothing.
+const PARALLEL: f64 = 1e-12;
+
+/// The interval where all `a_i + τ·b_i ≥ 0`.
+#[inline]
+fn clip(a: [f64; 4], b: [f64; 4], tol: &[f64; 4]) -> Option<Interval> {
+    let (mut near, mut far) = (f64::NEG_INFINITY, f64::INFINITY);
+    let (mut entry_face, mut exit_face) = (0, 0);
+    for i in 0..4 {
+        if b[i].abs() <= tol[i] {
+            if a[i] < -1e-9 {
+                return None;
             }
-            if b[i] > 0.0 {
-                // λ_i grows along the ray: the ray enters through face i at λ_i = 0.
-                let t = -a[i] / b[i];
-                if t > near {
-                    near = t;
-                    entry_face = i;
-                }
-            } else {
-                let t = -a[i] / b[i];
-                if t < far {
-                    far = t;
-                    exit_face = i;
-                }
-            }
+            continue;
         }
-        (near < far).then_some(Interval {
-            near,
-            far,
-            entry_face,
-            exit_face,
-            a,
-            b,
-        })
+        let t = -a[i] / b[i];
+        if b[i] > 0.0 {
+            // λ_i grows along the ray: the ray enters through face i at λ_i = 0.
+            if t > near {
+                near = t;
+                entry_face = i;
+            }
+        } else if t < far {
+            far = t;
+            exit_face = i;
+        }
+    }
+    (near < far).then_some(Interval {
+        near,
+        far,
+        entry_face,
+        exit_face,
+        a,
+        b,
+    })
+}
+
+/// A cell's `a_i` and `b_i` as affine functions of the screen position: for every pixel of the
+/// cell's footprint the ray interval without rebuilding the ray.
+#[derive(Debug, Clone, Copy)]
+pub struct CellRays {
+    /// `a_i(x, y) = a[i][0] + a[i][1]·x + a[i][2]·y`.
+    a: [[f64; 3]; 4],
+    b: [[f64; 3]; 4],
+    tol: [f64; 4],
+}
+
+impl CellRays {
+    pub fn new(cell: &EyeCell, projector: &Projector) -> CellRays {
+        let mut a = [[0.0; 3]; 4];
+        let mut b = [[0.0; 3]; 4];
+        let mut tol = [0.0; 4];
+        // The ray at (x, y) is o + τ·d with o, d affine in (x, y) (see Projector::ray_at).
+        let (o, d, d_max) = match *projector {
+            Projector::Ortho {
+                left,
+                right,
+                bottom,
+                top,
+                width,
+                height,
+                ..
+            } => {
+                let (sx, sy) = ((right - left) / width, (top - bottom) / height);
+                // o = (left + x·sx, top − y·sy, 0), d = (0, 0, −1).
+                (
+                    [[left, sx, 0.0], [top, 0.0, -sy], [0.0; 3]],
+                    [[0.0; 3], [0.0; 3], [-1.0, 0.0, 0.0]],
+                    1.0,
+                )
+            }
+            Projector::Persp {
+                tan_x,
+                tan_y,
+                width,
+                height,
+                ..
+            } => {
+                // d = ((2x/W − 1)·tx, (1 − 2y/H)·ty, −1), o = 0.
+                let d = [
+                    [-tan_x, 2.0 * tan_x / width, 0.0],
+                    [tan_y, 0.0, -2.0 * tan_y / height],
+                    [-1.0, 0.0, 0.0],
+                ];
+                (
+                    [[0.0; 3]; 3],
+                    d,
+                    (1.0 + tan_x * tan_x + tan_y * tan_y).sqrt(),
+                )
+            }
+        };
+        for i in 0..4 {
+            let g = cell.g[i];
+            for k in 0..3 {
+                a[i][k] = g[0] * o[0][k] + g[1] * o[1][k] + g[2] * o[2][k];
+                b[i][k] = g[0] * d[0][k] + g[1] * d[1][k] + g[2] * d[2][k];
+            }
+            a[i][0] += cell.h[i];
+            tol[i] = PARALLEL * (g[0] * g[0] + g[1] * g[1] + g[2] * g[2]).sqrt() * d_max;
+        }
+        CellRays { a, b, tol }
+    }
+
+    /// The interval of the ray through screen position (x, y), or `None`.
+    #[inline]
+    pub fn interval(&self, x: f64, y: f64) -> Option<Interval> {
+        let (a, b) = (&self.a, &self.b);
+        let a = [
+            a[0][0] + a[0][1] * x + a[0][2] * y,
+            a[1][0] + a[1][1] * x + a[1][2] * y,
+            a[2][0] + a[2][1] * x + a[2][2] * y,
+            a[3][0] + a[3][1] * x + a[3][2] * y,
+        ];
+        let b = [
+            b[0][0] + b[0][1] * x + b[0][2] * y,
+            b[1][0] + b[1][1] * x + b[1][2] * y,
+            b[2][0] + b[2][1] * x + b[2][2] * y,
+            b[3][0] + b[3][1] * x + b[3][2] * y,
+        ];
+        clip(a, b, &self.tol)
     }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::scene::Camera;
 
     #[test]
     fn a_ray_through_the_unit_corner() {
@@ -128,5 +228,55 @@ mod tests {
             dir: [0.0, 0.0, -1.0],
         };
         assert!(c.interval(&miss).is_none());
+    }
+
+    #[test]
+    fn affine_setup_agrees_with_explicit_rays() {
+        let p = [
+            [0.1, -0.2, -2.0],
+            [1.0, 0.1, -2.5],
+            [-0.3, 0.9, -2.2],
+            [0.2, 0.1, -3.4],
+        ];
+        let c = EyeCell::new(&p).unwrap();
+        for cam in [
+            Camera::Ortho {
+                left: -1.0,
+                right: 1.5,
+                bottom: -1.0,
+                top: 1.2,
+                front: 0.0,
+                back: 9.0,
+            },
+            Camera::Persp {
+                fovy: 50.0,
+                aspect: 1.3,
+                near: 0.1,
+                far: 9.0,
+            },
+        ] {
+            let proj = Projector::new(Some(&cam), [1.0; 3], 40, 30).unwrap();
+            let rays = CellRays::new(&c, &proj);
+            let mut hits = 0;
+            for j in 0..30 {
+                for i in 0..40 {
+                    let (x, y) = (i as f64 + 0.5, j as f64 + 0.5);
+                    let slow = c.interval(&proj.ray_at(x, y));
+                    let fast = rays.interval(x, y);
+                    match (slow, fast) {
+                        (Some(s), Some(f)) => {
+                            hits += 1;
+                            assert!(
+                                (s.near - f.near).abs() < 1e-12 && (s.far - f.far).abs() < 1e-12,
+                                "{s:?} {f:?}"
+                            );
+                        }
+                        (None, None) => {}
+                        other => panic!("disagree at ({i},{j}): {other:?}"),
+                    }
+                }
+            }
+            assert!(hits > 20);
+        }
     }
 }

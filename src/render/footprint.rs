@@ -5,7 +5,7 @@
 //! eye have no screen position): its footprint is the projection of the part beyond the near
 //! plane, a convex polygon fanned into triangles.
 
-use super::project::{Projection, THICK, classify};
+use super::project::{ProjClass, Projection, THICK, classify};
 use super::raster::ScreenTriangle;
 use crate::scene::Projector;
 
@@ -21,6 +21,24 @@ pub struct Footprint {
 }
 
 impl Footprint {
+    /// The outline of an unclipped footprint: its three or four node positions in order around
+    /// it (the Shirley–Tuchman triangles without the thick point). Methods that need no
+    /// Gouraud weights scan-convert this instead of the 3–4 triangles: fewer, longer rows.
+    pub fn hull(&self) -> Option<([[f64; 2]; 4], usize)> {
+        let p = self.projection.as_ref()?;
+        let at = |t: usize, k: usize| self.tris[t].v[k];
+        Some(match p.class {
+            // Fans around T: [[j, k, T], [k, l, T], [l, j, T]] and [[a, c, T], [c, b, T], …].
+            ProjClass::OneA | ProjClass::OneB => ([at(0, 0), at(1, 0), at(2, 0), [0.0; 2]], 3),
+            ProjClass::Two => ([at(0, 0), at(1, 0), at(2, 0), at(3, 0)], 4),
+            // [[a, T, c], [T, b, c]]: T lies on the edge a–b.
+            ProjClass::ThreeA | ProjClass::ThreeB => ([at(0, 0), at(1, 1), at(0, 2), [0.0; 2]], 3),
+            // [[T, r0, r1]]: T is a node.
+            ProjClass::Four => ([at(0, 0), at(0, 1), at(0, 2), [0.0; 2]], 3),
+            ProjClass::Flat => return None,
+        })
+    }
+
     /// Pixel bounding box `[x0, x1) × [y0, y1)` (unclamped).
     pub fn bbox(&self) -> Option<[f64; 4]> {
         if self.count == 0 {
@@ -64,7 +82,7 @@ pub fn footprint(
         Projector::Persp { depth, .. } => Some(depth.0),
         Projector::Ortho { .. } => None,
     };
-    let depth = eye.map(|p| -p[2]);
+    let depth = [-eye[0][2], -eye[1][2], -eye[2][2], -eye[3][2]];
     if let Some(near) = near.filter(|&n| depth.iter().any(|&d| d < n)) {
         if depth.iter().all(|&d| d < near) {
             return None;

@@ -1,13 +1,21 @@
 //! What every tile of one frame shares: the volume and mapping, the camera, node positions in
 //! eye space and on screen, and per-pixel inputs (background, line depth).
 
-use crate::mapping::Mapping;
+use crate::mapping::{Mapping, Transfer1D};
 use crate::scene::Projector;
 use crate::volume::Volume;
+
+/// The background intensity I0: one colour needs no per-pixel buffer.
+pub enum Backdrop {
+    Uniform([f64; 3]),
+    Image(Vec<[f64; 3]>),
+}
 
 pub struct Frame<'a> {
     pub vol: &'a Volume,
     pub mapping: &'a Mapping,
+    /// The mapping as a merged 1D transfer function, where it has that form (the fast path).
+    pub transfer: Option<Transfer1D>,
     pub projector: Projector,
     pub width: usize,
     pub height: usize,
@@ -15,10 +23,9 @@ pub struct Frame<'a> {
     pub eye_nodes: Vec<[f64; 3]>,
     /// Node positions on screen (meaningless for perspective nodes before the near plane).
     pub screen: Vec<[f64; 2]>,
-    /// Background intensity I0 per pixel.
-    pub background: Vec<[f64; 3]>,
-    /// Depth of the nearest grid line per pixel (∞ where none).
-    pub line_depth: Vec<f64>,
+    pub background: Backdrop,
+    /// Depth of the nearest grid line per pixel (∞ where none); `None` when no line is drawn.
+    pub line_depth: Option<Vec<f64>>,
 }
 
 impl Frame<'_> {
@@ -26,6 +33,9 @@ impl Frame<'_> {
     /// evaluated once with its own interpolator, then mapped. `buf` is scratch space.
     #[inline]
     pub fn mapped(&self, cell: usize, lambda: &[f64; 4], buf: &mut Vec<f64>) -> ([f64; 3], f64) {
+        if let Some(t) = &self.transfer {
+            return t.eval(Transfer1D::scalar(&self.node_values(cell), lambda));
+        }
         let tet = self.vol.mesh.tets()[cell];
         let nodes = self.vol.mesh.nodes();
         let mut pos = [0.0; 3];
@@ -40,14 +50,63 @@ impl Frame<'_> {
         self.mapping.eval(buf, cell, pos)
     }
 
+    /// The transfer function's field at a cell's four nodes (zeros if it reads no field).
+    #[inline]
+    pub fn node_values(&self, cell: usize) -> [f64; 4] {
+        match &self.transfer {
+            Some(t) if !t.node_values.is_empty() => {
+                let n = self.vol.mesh.tets()[cell];
+                let v = &t.node_values;
+                [
+                    v[n[0] as usize],
+                    v[n[1] as usize],
+                    v[n[2] as usize],
+                    v[n[3] as usize],
+                ]
+            }
+            _ => [0.0; 4],
+        }
+    }
+
     /// The four corners of a cell in eye space.
     #[inline]
     pub fn eye_corners(&self, cell: usize) -> [[f64; 3]; 4] {
-        self.vol.mesh.tets()[cell].map(|n| self.eye_nodes[n as usize])
+        let n = self.vol.mesh.tets()[cell];
+        let e = &self.eye_nodes;
+        [
+            e[n[0] as usize],
+            e[n[1] as usize],
+            e[n[2] as usize],
+            e[n[3] as usize],
+        ]
     }
 
     #[inline]
     pub fn screen_corners(&self, cell: usize) -> [[f64; 2]; 4] {
-        self.vol.mesh.tets()[cell].map(|n| self.screen[n as usize])
+        let n = self.vol.mesh.tets()[cell];
+        let s = &self.screen;
+        [
+            s[n[0] as usize],
+            s[n[1] as usize],
+            s[n[2] as usize],
+            s[n[3] as usize],
+        ]
+    }
+
+    /// I0 at a pixel.
+    #[inline]
+    pub fn background_at(&self, x: usize, y: usize) -> [f64; 3] {
+        match &self.background {
+            Backdrop::Uniform(c) => *c,
+            Backdrop::Image(px) => px[y * self.width + x],
+        }
+    }
+
+    /// The depth of the nearest grid line at a pixel (∞ where none).
+    #[inline]
+    pub fn line_at(&self, x: usize, y: usize) -> f64 {
+        self.line_depth
+            .as_ref()
+            .map_or(f64::INFINITY, |d| d[y * self.width + x])
     }
 }

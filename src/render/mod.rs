@@ -16,11 +16,13 @@ pub mod approx;
 pub mod cell;
 pub mod footprint;
 pub mod frame;
+pub mod gouraud;
 pub mod lines;
 pub mod project;
 pub mod raster;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
@@ -28,10 +30,11 @@ pub use approx::{METHODS, Method};
 pub use lines::LineDraw;
 
 use approx::{Approx, Pixel, Scratch};
-use cell::EyeCell;
+use cell::{CellRays, EyeCell};
 use footprint::footprint;
-use frame::Frame;
-use raster::{Rect, rasterize};
+use frame::{Backdrop, Frame};
+use gouraud::Fan;
+use raster::{Rect, rasterize, rasterize_convex};
 
 use crate::error::Error;
 use crate::framebuffer::{Background, Framebuffer};
@@ -41,11 +44,14 @@ use crate::sort::{self, SortInput};
 use crate::volume::Volume;
 
 /// Default edge length of a screen tile in pixels.
-pub const TILE: usize = 32;
+pub const TILE: usize = 64;
 
 /// Front-to-back compositing stops for a pixel once its accumulated transparency falls below
 /// this: what lies behind can change the pixel by at most this fraction of its background.
 pub const EARLY_TERMINATION: f64 = 1e-6;
+
+/// A ray interval shorter than this fraction of the cell's depth extent only touches the cell.
+pub const TOUCH: f64 = 1e-9;
 
 /// The largest image, in pixels (2^27: a 2 GiB float framebuffer).
 pub const MAX_PIXELS: usize = 1 << 27;
@@ -90,13 +96,29 @@ impl Default for Settings {
 #[derive(Debug, Clone, PartialEq)]
 pub struct Stats {
     pub cells: usize,
-    /// Cells with a footprint on screen.
+    /// Cells whose footprint's bounding box reaches the screen.
     pub drawn: usize,
+    /// Pixel–cell pairs integrated (ray segments).
+    pub fragments: u64,
     /// The visibility sort used and whether the mesh is convex.
     pub sort: &'static str,
     pub convex: bool,
     /// Cells that had to be released from a visibility cycle (0: the order is exact).
     pub cycle_cells: usize,
+    pub timing: Timing,
+}
+
+/// Where a render's time went (wall clock).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Timing {
+    /// Node transforms and projection, mapping preparation.
+    pub setup: Duration,
+    /// The visibility sort.
+    pub sort: Duration,
+    /// Grid lines, background and binning cells into tiles.
+    pub bin: Duration,
+    /// Scan conversion, integration and compositing of all tiles.
+    pub draw: Duration,
 }
 
 /// Checks an image size: at least 1 × 1 and at most [`MAX_PIXELS`].
@@ -122,6 +144,7 @@ pub fn render(
     settings: &Settings,
     progress: Option<&(dyn Fn(usize, usize) + Sync)>,
 ) -> Result<(Framebuffer, Stats), Error> {
+    let started = Instant::now();
     let (width, height) = (settings.width, settings.height);
     check_size(width, height).map_err(Error::Invalid)?;
     let mesh = &vol.mesh;
@@ -136,8 +159,11 @@ pub fn render(
     let projector = Projector::new(view.camera.as_ref(), bbox.size(), width, height)?;
     let eye_nodes: Vec<[f64; 3]> = mesh.nodes().par_iter().map(|&p| to_eye.apply(p)).collect();
     let screen: Vec<[f64; 2]> = eye_nodes.par_iter().map(|&p| projector.screen(p)).collect();
+    let transfer = mapping.transfer(vol);
+    let setup = started.elapsed();
 
-    let convex = sort::is_convex(mesh);
+    let sorting = Instant::now();
+    let convex = mesh.is_convex();
     let sorter = sort::choose(convex);
     let input = SortInput {
         mesh,
@@ -149,18 +175,26 @@ pub fn render(
     if settings.order == Order::FrontToBack {
         cells.reverse();
     }
+    let sort_time = sorting.elapsed();
 
+    let binning = Instant::now();
     let edges = lines::edges(vol, &settings.lines)?;
-    let line_depth = lines::depth_buffer(&edges, &eye_nodes, &projector, width, height);
+    let line_depth = (!edges.is_empty())
+        .then(|| lines::depth_buffer(&edges, &eye_nodes, &projector, width, height));
+    let background = match &settings.background {
+        Background::Color(c) => Backdrop::Uniform(*c),
+        other => Backdrop::Image(other.pixels(width, height)),
+    };
     let frame = Frame {
         vol,
         mapping,
+        transfer,
         projector,
         width,
         height,
         eye_nodes,
         screen,
-        background: settings.background.pixels(width, height),
+        background,
         line_depth,
     };
 
@@ -196,12 +230,20 @@ pub fn render(
         }
     }
     drop(fill);
+    drop(cells);
     let drawn = ranges.iter().filter(|r| r.is_some()).count();
+    drop(ranges);
+    let bin_time = binning.elapsed();
 
+    let drawing = Instant::now();
     let done = AtomicUsize::new(0);
     let total = tx * ty;
-    let tiles: Vec<Vec<[f32; 4]>> = (0..total)
+    // Tiles with the most cells first, so that no long tile is left for the end.
+    let mut schedule: Vec<usize> = (0..total).collect();
+    schedule.sort_by_key(|&t| std::cmp::Reverse(start[t + 1] - start[t]));
+    let tiles: Vec<(usize, Vec<[f32; 4]>, u64)> = schedule
         .into_par_iter()
+        .with_max_len(1)
         .map(|t| {
             let rect = Rect {
                 x0: (t % tx) * tile,
@@ -210,7 +252,7 @@ pub fn render(
                 y1: ((t / tx + 1) * tile).min(height),
             };
             let list = &binned[start[t] as usize..start[t + 1] as usize];
-            let out = match &settings.method {
+            let (out, fragments) = match &settings.method {
                 Method::Exact(m) => render_tile(&frame, m, settings.order, rect, list),
                 Method::InterpolateCoeff(m) => render_tile(&frame, m, settings.order, rect, list),
                 Method::InterpolateColor(m) => render_tile(&frame, m, settings.order, rect, list),
@@ -220,12 +262,14 @@ pub fn render(
             if let Some(p) = progress {
                 p(n, total);
             }
-            out
+            (t, out, fragments)
         })
         .collect();
 
     let mut fb = Framebuffer::new(width, height);
-    for (t, pixels) in tiles.iter().enumerate() {
+    let mut fragments = 0;
+    for (t, pixels, n) in &tiles {
+        fragments += n;
         let (x0, y0) = ((t % tx) * tile, (t / tx) * tile);
         let w = (x0 + tile).min(width) - x0;
         for (row, chunk) in pixels.chunks(w).enumerate() {
@@ -233,27 +277,53 @@ pub fn render(
             fb.pixels[at..at + w].copy_from_slice(chunk);
         }
     }
+    let draw_time = drawing.elapsed();
     Ok((
         fb,
         Stats {
             cells: mesh.tet_count(),
             drawn,
+            fragments,
             sort: sorter.name,
             convex,
             cycle_cells: order.cycle_cells,
+            timing: Timing {
+                setup,
+                sort: sort_time,
+                bin: bin_time,
+                draw: draw_time,
+            },
         },
     ))
 }
 
-/// The tiles `[x0, y0, x1, y1]` (inclusive) a cell's footprint touches, if any.
+/// The tiles `[x0, y0, x1, y1]` (inclusive) a cell's footprint touches, if any. The bounding
+/// box of the four projected nodes is the footprint's, except for a cell reaching in front of a
+/// perspective near plane, whose clipped footprint is computed.
 fn tile_range(f: &Frame, cell: usize, tile: usize, tx: usize, ty: usize) -> Option<[u32; 4]> {
-    let fp = footprint(
-        f.vol.mesh.tets()[cell],
-        &f.eye_corners(cell),
-        &f.screen_corners(cell),
-        &f.projector,
-    )?;
-    let b = fp.bbox()?;
+    let eye = f.eye_corners(cell);
+    let b = match f.projector {
+        Projector::Persp { depth, .. } if eye.iter().any(|p| -p[2] < depth.0) => footprint(
+            f.vol.mesh.tets()[cell],
+            &eye,
+            &f.screen_corners(cell),
+            &f.projector,
+        )?
+        .bbox()?,
+        _ => {
+            let s = f.screen_corners(cell);
+            let mut b = [s[0][0], s[0][1], s[0][0], s[0][1]];
+            for p in &s[1..] {
+                b = [
+                    b[0].min(p[0]),
+                    b[1].min(p[1]),
+                    b[2].max(p[0]),
+                    b[3].max(p[1]),
+                ];
+            }
+            b
+        }
+    };
     // Pixel centres i + ½ inside [min, max].
     let lo = |m: f64| (m - 0.5).ceil().max(0.0);
     let hi = |m: f64, n: usize| (m - 0.5).floor().min(n as f64 - 1.0);
@@ -266,26 +336,35 @@ fn tile_range(f: &Frame, cell: usize, tile: usize, tx: usize, ty: usize) -> Opti
     (r[2] < tx as u32 && r[3] < ty as u32).then_some(r)
 }
 
-/// Renders the cells `list` (in compositing order) into one tile.
+/// Renders the cells `list` (in compositing order) into one tile; also returns the number of
+/// pixel–cell pairs integrated.
 fn render_tile<A: Approx>(
     f: &Frame,
     method: &A,
     order: Order,
     rect: Rect,
     list: &[u32],
-) -> Vec<[f32; 4]> {
+) -> (Vec<[f32; 4]>, u64) {
     let tw = rect.x1 - rect.x0;
     let n = tw * (rect.y1 - rect.y0);
     let (dmin, dmax) = f.projector.depth();
-    let pixel_index = |x: usize, y: usize| y * f.width + x;
-    let has_line = |x: usize, y: usize| f.line_depth[pixel_index(x, y)].is_finite();
+    let has_line = |x: usize, y: usize| f.line_at(x, y).is_finite();
     let i0 = |x: usize, y: usize| {
         if has_line(x, y) {
             [0.0; 3]
         } else {
-            f.background[pixel_index(x, y)]
+            f.background_at(x, y)
         }
     };
+    // The nearest line in the tile: cells behind it need no per-pixel line test.
+    let mut nearest_line = f64::INFINITY;
+    if f.line_depth.is_some() {
+        for y in rect.y0..rect.y1 {
+            for x in rect.x0..rect.x1 {
+                nearest_line = nearest_line.min(f.line_at(x, y));
+            }
+        }
+    }
     // Per pixel: intensity (back to front) or accumulated colour (front to back), and the
     // volume's transparency.
     let mut acc: Vec<([f64; 3], f64)> = Vec::with_capacity(n);
@@ -300,6 +379,7 @@ fn render_tile<A: Approx>(
         }
     }
     let mut scratch = Scratch::default();
+    let mut fragments = 0u64;
     let tets = f.vol.mesh.tets();
     for &cell in list {
         let cell = cell as usize;
@@ -310,52 +390,110 @@ fn render_tile<A: Approx>(
         let Some(fp) = footprint(tets[cell], &eye, &f.screen_corners(cell), &f.projector) else {
             continue;
         };
+        let rays = CellRays::new(&ec, &f.projector);
+        // Along every ray τ is the depth, so the cell's depth range bounds every interval:
+        // inside the camera's range and before every line, no pixel needs clipping.
+        let (lo, hi) = eye
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                (lo.min(-p[2]), hi.max(-p[2]))
+            });
+        // A ray through an edge or a node of the cell, exactly on a pixel centre, only touches
+        // it: its interval is of rounding size and is skipped (so `test` draws no faces there).
+        let touch = TOUCH * (hi - lo);
+        let camera_clips = method.clips() && (lo < dmin || hi > dmax);
+        let line_clips = hi > nearest_line;
+        let unclipped = !camera_clips && !line_clips;
+        let composite = |a: &mut ([f64; 3], f64), (b, theta): ([f64; 3], f64)| {
+            match order {
+                Order::BackToFront => {
+                    for ch in 0..3 {
+                        a.0[ch] = a.0[ch] * theta + b[ch];
+                    }
+                }
+                Order::FrontToBack => {
+                    for ch in 0..3 {
+                        a.0[ch] += a.1 * b[ch];
+                    }
+                }
+            }
+            a.1 *= theta;
+        };
+        let hull = fp.hull();
         let mut prepared: Option<A::Cell> = None;
-        for k in 0..fp.count {
+        // Screen-space methods on unclipped cells: Gouraud shading over the outline.
+        if A::SCREEN_SPACE && unclipped {
+            if let Some((v, n)) = hull {
+                let c = method.prepare(f, cell, &ec, &fp, &mut scratch);
+                if let Some(fan) = method
+                    .fan_values(&c)
+                    .and_then(|values| Fan::new(&fp, &values))
+                {
+                    rasterize_convex(&v[..n], rect, |x, y| {
+                        let a = &mut acc[(y - rect.y0) * tw + (x - rect.x0)];
+                        if order == Order::FrontToBack && a.1 < EARLY_TERMINATION {
+                            return;
+                        }
+                        fragments += 1;
+                        let values = fan.at(x as f64 + 0.5, y as f64 + 0.5);
+                        composite(a, method.screen_pixel(values));
+                    });
+                    continue;
+                }
+                prepared = Some(c);
+            }
+        }
+        // Everything else per ray: over the outline where the method needs no fan triangle.
+        let hull = if A::SCREEN_SPACE { None } else { hull };
+        let parts = if hull.is_some() { 1 } else { fp.count };
+        for k in 0..parts {
             let corners = fp.corners[k];
-            rasterize(&fp.tris[k], rect, |x, y, weights| {
+            let mut draw = |x: usize, y: usize, weights: [f64; 3]| {
                 let a = &mut acc[(y - rect.y0) * tw + (x - rect.x0)];
                 if order == Order::FrontToBack && a.1 < EARLY_TERMINATION {
                     return;
                 }
-                let ray = f.projector.ray(x, y);
-                let Some(iv) = ec.interval(&ray) else { return };
+                let Some(iv) = rays
+                    .interval(x as f64 + 0.5, y as f64 + 0.5)
+                    .filter(|iv| iv.far - iv.near > touch)
+                else {
+                    return;
+                };
                 let (mut near, mut far) = (iv.near, iv.far);
-                if method.clips() {
+                if camera_clips {
                     near = near.max(dmin);
                     far = far.min(dmax);
                 }
-                far = far.min(f.line_depth[pixel_index(x, y)]);
+                if line_clips {
+                    far = far.min(f.line_at(x, y));
+                }
                 if near >= far {
                     return;
                 }
-                if prepared.is_none() {
-                    prepared = Some(method.prepare(f, cell, &ec, &fp, &mut scratch));
-                }
-                let Some(c) = prepared.as_ref() else { return };
+                let c =
+                    prepared.get_or_insert_with(|| method.prepare(f, cell, &ec, &fp, &mut scratch));
+                let speed = match f.projector {
+                    Projector::Ortho { .. } => 1.0,
+                    Projector::Persp { .. } => f.projector.ray(x, y).speed(),
+                };
                 let px = Pixel {
-                    ray,
+                    speed,
                     iv,
                     near,
                     far,
                     corners,
                     weights,
                 };
-                let (b, theta) = method.pixel(f, cell, c, &px, &mut scratch);
-                match order {
-                    Order::BackToFront => {
-                        for ch in 0..3 {
-                            a.0[ch] = a.0[ch] * theta + b[ch];
-                        }
-                    }
-                    Order::FrontToBack => {
-                        for ch in 0..3 {
-                            a.0[ch] += a.1 * b[ch];
-                        }
-                    }
-                }
-                a.1 *= theta;
-            });
+                fragments += 1;
+                composite(a, method.pixel(f, cell, c, &px, &mut scratch));
+            };
+            if let Some((v, n)) = hull {
+                rasterize_convex(&v[..n], rect, |x, y| draw(x, y, [0.0; 3]));
+            } else if A::SCREEN_SPACE {
+                rasterize::<true>(&fp.tris[k], rect, draw);
+            } else {
+                rasterize::<false>(&fp.tris[k], rect, draw);
+            }
         }
     }
     let mut out = Vec::with_capacity(n);
@@ -375,5 +513,5 @@ fn render_tile<A: Approx>(
             out.push([rgb[0] as f32, rgb[1] as f32, rgb[2] as f32, alpha as f32]);
         }
     }
-    out
+    (out, fragments)
 }

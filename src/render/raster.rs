@@ -28,18 +28,63 @@ pub struct Rect {
 /// negated if swapped.
 #[inline]
 fn edge(a: [f64; 2], b: [f64; 2], p: [f64; 2]) -> f64 {
-    if (a[0], a[1]) <= (b[0], b[1]) {
-        (b[0] - a[0]) * (p[1] - a[1]) - (b[1] - a[1]) * (p[0] - a[0])
-    } else {
-        -((a[0] - b[0]) * (p[1] - b[1]) - (a[1] - b[1]) * (p[0] - b[0]))
+    Edge::new(a, b).at(p[0], p[1])
+}
+
+/// One edge function in canonical form: `E(p) = sign·(d.x·(p.y − c.y) − d.y·(p.x − c.x))` with
+/// `c` the canonical start and `d` the edge vector from it. Splitting it so lets a scanline
+/// hoist the row term while computing the same bits as [`edge`].
+#[derive(Debug, Clone, Copy)]
+struct Edge {
+    c: [f64; 2],
+    d: [f64; 2],
+    sign: f64,
+}
+
+impl Edge {
+    #[inline]
+    fn new(a: [f64; 2], b: [f64; 2]) -> Edge {
+        if (a[0], a[1]) <= (b[0], b[1]) {
+            Edge {
+                c: a,
+                d: [b[0] - a[0], b[1] - a[1]],
+                sign: 1.0,
+            }
+        } else {
+            Edge {
+                c: b,
+                d: [a[0] - b[0], a[1] - b[1]],
+                sign: -1.0,
+            }
+        }
+    }
+
+    /// `d.x·(p.y − c.y)`: the part that is fixed along a row.
+    #[inline]
+    fn row(&self, py: f64) -> f64 {
+        self.d[0] * (py - self.c[1])
+    }
+
+    #[inline]
+    fn at_row(&self, row: f64, px: f64) -> f64 {
+        self.sign * (row - self.d[1] * (px - self.c[0]))
+    }
+
+    #[inline]
+    fn at(&self, px: f64, py: f64) -> f64 {
+        self.at_row(self.row(py), px)
     }
 }
 
-/// Calls `f(x, y, w)` for every pixel of `rect` covered by the triangle, with `w` the
-/// screen-space barycentric weights of the pixel centre (for Gouraud interpolation, in the
-/// order of `tri.v`).
+/// Calls `f(x, y, w)` for every pixel of `rect` covered by the triangle. With `WEIGHTS`, `w`
+/// holds the screen-space barycentric weights of the pixel centre (for Gouraud interpolation,
+/// in the order of `tri.v`); without, zeros.
 #[inline]
-pub fn rasterize(tri: &ScreenTriangle, rect: Rect, mut f: impl FnMut(usize, usize, [f64; 3])) {
+pub fn rasterize<const WEIGHTS: bool>(
+    tri: &ScreenTriangle,
+    rect: Rect,
+    mut f: impl FnMut(usize, usize, [f64; 3]),
+) {
     let c = |p: [f64; 2]| Coord { x: p[0], y: p[1] };
     let o = orient2d(c(tri.v[0]), c(tri.v[1]), c(tri.v[2]));
     if o == 0.0 {
@@ -51,47 +96,181 @@ pub fn rasterize(tri: &ScreenTriangle, rect: Rect, mut f: impl FnMut(usize, usiz
     } else {
         ([tri.v[0], tri.v[2], tri.v[1]], [0, 2, 1])
     };
-    let min_x = v[0][0].min(v[1][0]).min(v[2][0]);
-    let max_x = v[0][0].max(v[1][0]).max(v[2][0]);
-    let min_y = v[0][1].min(v[1][1]).min(v[2][1]);
-    let max_y = v[0][1].max(v[1][1]).max(v[2][1]);
-    // Pixel centres i + ½ within [min, max].
-    let lo = |m: f64, r0: usize| ((m - 0.5).ceil().max(r0 as f64)) as usize;
-    let hi = |m: f64, r1: usize| (((m - 0.5).floor() + 1.0).min(r1 as f64).max(0.0)) as usize;
-    let (x0, x1) = (lo(min_x, rect.x0), hi(max_x, rect.x1));
-    let (y0, y1) = (lo(min_y, rect.y0), hi(max_y, rect.y1));
-    if x0 >= x1 || y0 >= y1 {
+    let Some(shape) = Convex::new(v, rect) else {
+        return;
+    };
+    let inv_area = 1.0 / edge(v[0], v[1], v[2]);
+    shape.scan(|x, y, rows| {
+        let mut out = [0.0; 3];
+        if WEIGHTS {
+            // Weight of vertex k is the edge value opposite it.
+            let px = x as f64 + 0.5;
+            let e = &shape.edges;
+            out[perm[0]] = e[1].at_row(rows[1], px) * inv_area;
+            out[perm[1]] = e[2].at_row(rows[2], px) * inv_area;
+            out[perm[2]] = e[0].at_row(rows[0], px) * inv_area;
+        }
+        f(x, y, out);
+    });
+}
+
+/// Calls `f(x, y)` for every pixel of `rect` covered by a convex polygon of three or four
+/// vertices given in order around it (either way round), with the same top-left rule as
+/// [`rasterize`]: the union of a triangulation of the polygon covers the same pixels, except
+/// possibly a pixel centre exactly on a vertex, where the rule depends on the inner edges.
+#[inline]
+pub fn rasterize_convex(poly: &[[f64; 2]], rect: Rect, f: impl FnMut(usize, usize)) {
+    let c = |p: [f64; 2]| Coord { x: p[0], y: p[1] };
+    let o = orient2d(c(poly[0]), c(poly[1]), c(poly[2]));
+    if o == 0.0 {
         return;
     }
-    // Top-left ownership of each edge k: v[k] → v[k+1]. With positive orientation and y
-    // pointing down, a top edge runs towards +x and a left edge towards −y. An edge shared with
-    // another triangle runs the other way there, so exactly one of the two owns it.
-    let owns = [0, 1, 2].map(|k| {
-        let (a, b) = (v[k], v[(k + 1) % 3]);
-        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-        dy < 0.0 || (dy == 0.0 && dx > 0.0)
-    });
-    let area = edge(v[0], v[1], v[2]);
-    for y in y0..y1 {
-        let py = y as f64 + 0.5;
-        for x in x0..x1 {
-            let p = [x as f64 + 0.5, py];
-            let e = [0, 1, 2].map(|k| {
-                let j = (k + 1) % 3;
-                edge(v[k], v[j], p)
-            });
-            let inside = (0..3).all(|k| e[k] > 0.0 || (e[k] == 0.0 && owns[k]));
-            if inside {
-                // Weight of vertex k is the edge value opposite it.
-                let w = [e[1] / area, e[2] / area, e[0] / area];
-                let mut out = [0.0; 3];
-                for k in 0..3 {
-                    out[perm[k]] = w[k];
+    let mut f = f;
+    let forward = o > 0.0;
+    match poly.len() {
+        3 => {
+            let v = if forward {
+                [poly[0], poly[1], poly[2]]
+            } else {
+                [poly[0], poly[2], poly[1]]
+            };
+            if let Some(shape) = Convex::new(v, rect) {
+                shape.scan(|x, y, _| f(x, y));
+            }
+        }
+        4 => {
+            let v = if forward {
+                [poly[0], poly[1], poly[2], poly[3]]
+            } else {
+                [poly[0], poly[3], poly[2], poly[1]]
+            };
+            if let Some(shape) = Convex::new(v, rect) {
+                shape.scan(|x, y, _| f(x, y));
+            }
+        }
+        _ => unreachable!("footprint hulls have three or four vertices"),
+    }
+}
+
+/// A positively oriented convex polygon prepared for scan conversion, clipped to a rectangle.
+struct Convex<const N: usize> {
+    edges: [Edge; N],
+    owns: [bool; N],
+    /// 1/d.y per edge, for the root estimate (∞ for a horizontal edge).
+    inv_dy: [f64; N],
+    x0: usize,
+    x1: usize,
+    y0: usize,
+    y1: usize,
+}
+
+impl<const N: usize> Convex<N> {
+    /// `None` if no pixel centre of `rect` lies in its bounding box.
+    #[inline]
+    fn new(v: [[f64; 2]; N], rect: Rect) -> Option<Self> {
+        let (mut min_x, mut max_x, mut min_y, mut max_y) = (v[0][0], v[0][0], v[0][1], v[0][1]);
+        for p in &v[1..] {
+            min_x = min_x.min(p[0]);
+            max_x = max_x.max(p[0]);
+            min_y = min_y.min(p[1]);
+            max_y = max_y.max(p[1]);
+        }
+        // Pixel centres i + ½ within [min, max].
+        let lo = |m: f64, r0: usize| ((-floor(0.5 - m)).max(r0 as f64)) as usize;
+        let hi = |m: f64, r1: usize| ((floor(m - 0.5) + 1.0).min(r1 as f64).max(0.0)) as usize;
+        let (x0, x1) = (lo(min_x, rect.x0), hi(max_x, rect.x1));
+        let (y0, y1) = (lo(min_y, rect.y0), hi(max_y, rect.y1));
+        if x0 >= x1 || y0 >= y1 {
+            return None;
+        }
+        // Top-left ownership of each edge k: v[k] → v[k+1]. With positive orientation and y
+        // pointing down, a top edge runs towards +x and a left edge towards −y. An edge shared
+        // with another polygon runs the other way there, so exactly one of the two owns it.
+        let owns = std::array::from_fn(|k| {
+            let (a, b) = (v[k], v[(k + 1) % N]);
+            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+            dy < 0.0 || (dy == 0.0 && dx > 0.0)
+        });
+        let edges: [Edge; N] = std::array::from_fn(|k| Edge::new(v[k], v[(k + 1) % N]));
+        let inv_dy = std::array::from_fn(|k| 1.0 / edges[k].d[1]);
+        Some(Convex {
+            edges,
+            owns,
+            inv_dy,
+            x0,
+            x1,
+            y0,
+            y1,
+        })
+    }
+
+    /// Calls `f(x, y, rows)` for every covered pixel, `rows` the edges' row terms.
+    #[inline]
+    fn scan(&self, mut f: impl FnMut(usize, usize, &[f64; N])) {
+        let inside = |e: f64, owned: bool| e > 0.0 || (e == 0.0 && owned);
+        let (x0, x1) = (self.x0, self.x1);
+        for y in self.y0..self.y1 {
+            let py = y as f64 + 0.5;
+            let rows: [f64; N] = std::array::from_fn(|k| self.edges[k].row(py));
+            let covered = |x: usize| {
+                let px = x as f64 + 0.5;
+                (0..N).all(|k| inside(self.edges[k].at_row(rows[k], px), self.owns[k]))
+            };
+            // Each edge function is monotone in x along the row (so is its rounded value), so
+            // the covered pixels form one run. Estimate its ends from the edges' roots
+            // (E_k = 0 at px = c.x + row/d.y), then settle them with the exact test.
+            let (mut from, mut to) = (x0 as f64, x1 as f64);
+            let mut empty = false;
+            for k in 0..N {
+                let e = &self.edges[k];
+                let slope = -e.sign * e.d[1];
+                if slope == 0.0 {
+                    empty |= !inside(e.sign * rows[k], self.owns[k]);
+                    continue;
                 }
-                f(x, y, out);
+                let root = e.c[0] + rows[k] * self.inv_dy[k];
+                if slope > 0.0 {
+                    from = from.max(floor(root - 0.5));
+                } else {
+                    to = to.min(floor(root + 1.5));
+                }
+            }
+            if empty || from >= to {
+                continue;
+            }
+            let (mut a, mut b) = (from as usize, to as usize);
+            // The run starts at the first covered pixel at or after a − 1 …
+            a = a.saturating_sub(1).max(x0);
+            while a < b && !covered(a) {
+                a += 1;
+            }
+            if a == b {
+                continue;
+            }
+            while a > x0 && covered(a - 1) {
+                a -= 1;
+            }
+            // … and ends after the last covered one.
+            b = (b + 1).min(x1);
+            while b > a + 1 && !covered(b - 1) {
+                b -= 1;
+            }
+            while b < x1 && covered(b) {
+                b += 1;
+            }
+            for x in a..b {
+                f(x, y, &rows);
             }
         }
     }
+}
+
+/// `⌊x⌋` without a library call (the baseline x86-64 target has no rounding instruction);
+/// saturating for values beyond ±2⁶³, which the callers clamp anyway.
+#[inline]
+fn floor(x: f64) -> f64 {
+    let t = x as i64 as f64;
+    if t > x { t - 1.0 } else { t }
 }
 
 #[cfg(test)]
@@ -107,7 +286,7 @@ mod tests {
 
     fn cover(t: &ScreenTriangle) -> Vec<(usize, usize)> {
         let mut v = Vec::new();
-        rasterize(t, ALL, |x, y, w| {
+        rasterize::<true>(t, ALL, |x, y, w| {
             assert!((w.iter().sum::<f64>() - 1.0).abs() < 1e-12);
             v.push((x, y));
         });

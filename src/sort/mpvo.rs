@@ -1,7 +1,9 @@
 //! MPVO: a topological sort of the "is behind" relation across interior faces, decided by exact
 //! orientation predicates so that both cells of a face always agree.
 
-use std::collections::{BinaryHeap, VecDeque};
+use std::collections::BinaryHeap;
+
+use rayon::prelude::*;
 
 use super::{Order, SortInfo, SortInput};
 use crate::mesh::{FACE_NODES, NO_NEIGHBOR, orientation};
@@ -20,10 +22,18 @@ pub const MPVONC: SortInfo = SortInfo {
 
 /// +1 if the viewer is on the outer side of face `f` of `cell` (the neighbour across it is in
 /// front), −1 if on the inner side, 0 if exactly in its plane.
+#[cfg(test)]
 fn facing(input: &SortInput, cell: usize, f: usize) -> i8 {
-    let tet = input.mesh.tets()[cell];
-    let [a, b, c] = FACE_NODES[f].map(|k| input.eye_nodes[tet[k] as usize]);
-    let s = if input.perspective {
+    let corners = input.mesh.tets()[cell].map(|n| input.eye_nodes[n as usize]);
+    face_sign(&corners, f, input.perspective)
+}
+
+/// [`facing`] for a cell whose corners (in eye space) are at hand.
+#[inline]
+fn face_sign(p: &[[f64; 3]; 4], f: usize, perspective: bool) -> i8 {
+    let [i, j, k] = FACE_NODES[f];
+    let (a, b, c) = (p[i], p[j], p[k]);
+    let s = if perspective {
         orientation(a, b, c, [0.0; 3])
     } else {
         // The viewer at +∞ z: the sign of the outward normal's z component.
@@ -42,25 +52,46 @@ fn facing(input: &SortInput, cell: usize, f: usize) -> i8 {
     }
 }
 
-/// For each cell: the bit mask of faces whose neighbour is in front, and the number of
-/// neighbours behind it.
-fn relation(input: &SortInput) -> (Vec<u8>, Vec<u8>) {
-    let n = input.mesh.tet_count();
-    let mut front = vec![0u8; n];
-    let mut behind = vec![0u8; n];
-    for (cell, nb) in input.mesh.neighbors().iter().enumerate() {
-        for f in 0..4 {
-            if nb[f] == NO_NEIGHBOR {
-                continue;
+/// Per cell, packed in one byte so that the sort touches one array: bits 0–3 the faces whose
+/// neighbour is in front, bits 4–6 the number of neighbours behind it not yet placed, bit 7
+/// whether it is placed.
+const BEHIND: u8 = 1 << 4;
+const PLACED: u8 = 1 << 7;
+
+#[inline]
+fn behind_count(state: u8) -> u8 {
+    (state >> 4) & 7
+}
+
+/// The relation for every cell, in parallel. Both cells of a face evaluate the same exact
+/// predicate (with the face's nodes in opposite orders), so they always agree.
+fn relation(input: &SortInput) -> Vec<u8> {
+    let (nbs, tets, eye) = (input.mesh.neighbors(), input.mesh.tets(), input.eye_nodes);
+    (0..input.mesh.tet_count())
+        .into_par_iter()
+        .with_min_len(4096)
+        .map(|cell| {
+            let t = tets[cell];
+            let p = [
+                eye[t[0] as usize],
+                eye[t[1] as usize],
+                eye[t[2] as usize],
+                eye[t[3] as usize],
+            ];
+            let mut state = 0u8;
+            for f in 0..4 {
+                if nbs[cell][f] == NO_NEIGHBOR {
+                    continue;
+                }
+                match face_sign(&p, f, input.perspective) {
+                    1 => state |= 1 << f,
+                    -1 => state += BEHIND,
+                    _ => {}
+                }
             }
-            match facing(input, cell, f) {
-                1 => front[cell] |= 1 << f,
-                -1 => behind[cell] += 1,
-                _ => {}
-            }
-        }
-    }
-    (front, behind)
+            state
+        })
+        .collect()
 }
 
 /// Depth of a cell's centroid (distance from the eye, or −z for orthographic views).
@@ -79,21 +110,6 @@ fn depth(input: &SortInput, cell: usize) -> f64 {
     }
 }
 
-/// A ready queue: FIFO for MPVO, farthest-first for MPVONC.
-trait Ready {
-    fn push(&mut self, cell: u32, input: &SortInput);
-    fn pop(&mut self) -> Option<u32>;
-}
-
-impl Ready for VecDeque<u32> {
-    fn push(&mut self, cell: u32, _: &SortInput) {
-        self.push_back(cell);
-    }
-    fn pop(&mut self) -> Option<u32> {
-        self.pop_front()
-    }
-}
-
 /// Max-heap on (depth, −index): the farthest ready cell first, ties by index.
 #[derive(PartialEq)]
 struct Far(f64, u32);
@@ -109,43 +125,62 @@ impl Ord for Far {
     }
 }
 
-impl Ready for BinaryHeap<Far> {
-    fn push(&mut self, cell: u32, input: &SortInput) {
-        BinaryHeap::push(self, Far(depth(input, cell as usize), cell));
-    }
-    fn pop(&mut self) -> Option<u32> {
-        BinaryHeap::pop(self).map(|f| f.1)
+/// The cells still waiting when the ready cells have run out (a visibility cycle): the
+/// farthest one is released.
+fn farthest_waiting(input: &SortInput, state: &[u8]) -> Option<usize> {
+    (0..state.len())
+        .filter(|&c| state[c] & PLACED == 0)
+        .max_by(|&a, &b| depth(input, a).total_cmp(&depth(input, b)).then(b.cmp(&a)))
+}
+
+/// Places `c` after the cells behind it and returns the neighbours in front of it that have
+/// now become ready.
+#[inline]
+fn place(c: usize, state: &mut [u8], nbs: &[[u32; 4]], mut ready: impl FnMut(u32)) {
+    state[c] |= PLACED;
+    let front = state[c] & 0xF;
+    for f in 0..4 {
+        if front & (1 << f) != 0 {
+            let m = nbs[c][f] as usize;
+            if behind_count(state[m]) > 0 {
+                state[m] -= BEHIND;
+            }
+            if behind_count(state[m]) == 0 && state[m] & PLACED == 0 {
+                ready(m as u32);
+            }
+        }
     }
 }
 
-/// Kahn's algorithm over the relation; when the queue runs dry with cells left (a cycle), the
-/// farthest remaining cell is released and counted.
-fn topological<Q: Ready>(input: &SortInput, mut ready: Q) -> Order {
+/// MPVO: Kahn's algorithm with a FIFO queue — the output itself, read as it grows.
+fn mpvo(input: &SortInput) -> Order {
     let n = input.mesh.tet_count();
-    let (front, mut behind) = relation(input);
-    for (c, &b) in behind.iter().enumerate() {
-        if b == 0 {
-            ready.push(c as u32, input);
+    let nbs = input.mesh.neighbors();
+    let mut state = relation(input);
+    let mut order: Vec<u32> = Vec::with_capacity(n);
+    // Queued cells are marked placed when queued, so each enters the order once.
+    for c in 0..n {
+        if behind_count(state[c]) == 0 {
+            state[c] |= PLACED;
+            order.push(c as u32);
         }
     }
-    let mut order = Vec::with_capacity(n);
-    let mut done = vec![false; n];
     let mut cycle_cells = 0;
-    let nbs = input.mesh.neighbors();
+    let mut next = 0;
     loop {
-        while let Some(c) = ready.pop() {
-            let c = c as usize;
-            if done[c] {
-                continue;
-            }
-            done[c] = true;
-            order.push(c as u32);
+        while next < order.len() {
+            let c = order[next] as usize;
+            next += 1;
+            let front = state[c] & 0xF;
             for f in 0..4 {
-                if front[c] & (1 << f) != 0 {
+                if front & (1 << f) != 0 {
                     let m = nbs[c][f] as usize;
-                    behind[m] = behind[m].saturating_sub(1);
-                    if behind[m] == 0 && !done[m] {
-                        ready.push(m as u32, input);
+                    if behind_count(state[m]) > 0 {
+                        state[m] -= BEHIND;
+                    }
+                    if behind_count(state[m]) == 0 && state[m] & PLACED == 0 {
+                        state[m] |= PLACED;
+                        order.push(m as u32);
                     }
                 }
             }
@@ -153,14 +188,12 @@ fn topological<Q: Ready>(input: &SortInput, mut ready: Q) -> Order {
         if order.len() == n {
             break;
         }
-        // A cycle: release the farthest cell still waiting.
-        let next = (0..n)
-            .filter(|&c| !done[c])
-            .max_by(|&a, &b| depth(input, a).total_cmp(&depth(input, b)).then(b.cmp(&a)));
-        let Some(next) = next else { break };
+        let Some(c) = farthest_waiting(input, &state) else {
+            break;
+        };
         cycle_cells += 1;
-        behind[next] = 0;
-        ready.push(next as u32, input);
+        state[c] |= PLACED;
+        order.push(c as u32);
     }
     Order {
         back_to_front: order,
@@ -168,12 +201,44 @@ fn topological<Q: Ready>(input: &SortInput, mut ready: Q) -> Order {
     }
 }
 
-fn mpvo(input: &SortInput) -> Order {
-    topological(input, VecDeque::with_capacity(1024))
-}
-
+/// MPVONC: Kahn's algorithm with the farthest ready cell first.
 fn mpvonc(input: &SortInput) -> Order {
-    topological(input, BinaryHeap::with_capacity(1024))
+    let n = input.mesh.tet_count();
+    let nbs = input.mesh.neighbors();
+    let mut state = relation(input);
+    let mut ready: BinaryHeap<Far> = BinaryHeap::with_capacity(1024);
+    for c in 0..n {
+        if behind_count(state[c]) == 0 {
+            ready.push(Far(depth(input, c), c as u32));
+        }
+    }
+    let mut order = Vec::with_capacity(n);
+    let mut cycle_cells = 0;
+    loop {
+        while let Some(Far(_, c)) = ready.pop() {
+            let c = c as usize;
+            if state[c] & PLACED != 0 {
+                continue;
+            }
+            order.push(c as u32);
+            place(c, &mut state, nbs, |m| {
+                ready.push(Far(depth(input, m as usize), m))
+            });
+        }
+        if order.len() == n {
+            break;
+        }
+        let Some(c) = farthest_waiting(input, &state) else {
+            break;
+        };
+        cycle_cells += 1;
+        state[c] &= !(7 << 4);
+        ready.push(Far(depth(input, c), c as u32));
+    }
+    Order {
+        back_to_front: order,
+        cycle_cells,
+    }
 }
 
 #[cfg(test)]

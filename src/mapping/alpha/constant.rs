@@ -3,7 +3,7 @@
 use std::sync::Arc;
 
 use crate::mapping::block::{BlockError, ParamBlock, non_negative, required};
-use crate::mapping::{AlphaShading, FieldNeed, MethodInfo, Point, Shape};
+use crate::mapping::{AlphaShading, FieldNeed, MethodInfo, Point, ScalarAlpha, Shape};
 
 pub const INFO: MethodInfo<dyn AlphaShading> = MethodInfo {
     name: "CONSTANT",
@@ -31,5 +31,8 @@ impl AlphaShading for Constant {
     }
     fn shape(&self) -> Shape {
         Shape::Constant
+    }
+    fn scalar_form(&self) -> Option<ScalarAlpha<'_>> {
+        Some(ScalarAlpha::Constant(self.0))
     }
 }

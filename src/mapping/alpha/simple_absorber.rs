@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use crate::mapping::block::{BlockError, ParamBlock, required};
-use crate::mapping::{AlphaShading, FieldNeed, MethodInfo, Point, Shape, Table};
+use crate::mapping::{AlphaShading, FieldNeed, MethodInfo, Point, ScalarAlpha, Shape, Table};
 
 pub const INFO: MethodInfo<dyn AlphaShading> = MethodInfo {
     name: "SIMPLE_ABSORBER",
@@ -37,5 +37,8 @@ impl AlphaShading for SimpleAbsorber {
     }
     fn breakpoints(&self) -> &[f64] {
         self.0.values()
+    }
+    fn scalar_form(&self) -> Option<ScalarAlpha<'_>> {
+        Some(ScalarAlpha::Table(&self.0))
     }
 }

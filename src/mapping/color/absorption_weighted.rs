@@ -5,7 +5,7 @@
 use std::sync::Arc;
 
 use crate::mapping::block::{BlockError, ParamBlock, required};
-use crate::mapping::{ColorShading, FieldNeed, MethodInfo, Point, Shape, Table};
+use crate::mapping::{ColorShading, FieldNeed, MethodInfo, Point, ScalarColor, Shape, Table};
 
 pub const INFO: MethodInfo<dyn ColorShading> = MethodInfo {
     name: "ABSORPTION_WEIGHTED",
@@ -40,5 +40,8 @@ impl ColorShading for AbsorptionWeighted {
     }
     fn uses_absorption(&self) -> bool {
         true
+    }
+    fn scalar_form(&self) -> Option<ScalarColor<'_>> {
+        Some(ScalarColor::Table(&self.0))
     }
 }

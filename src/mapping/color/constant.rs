@@ -3,7 +3,7 @@
 use std::sync::Arc;
 
 use crate::mapping::block::{BlockError, ParamBlock, non_negative, required};
-use crate::mapping::{ColorShading, FieldNeed, MethodInfo, Point, Shape};
+use crate::mapping::{ColorShading, FieldNeed, MethodInfo, Point, ScalarColor, Shape};
 
 pub const INFO: MethodInfo<dyn ColorShading> = MethodInfo {
     name: "CONSTANT",
@@ -35,5 +35,8 @@ impl ColorShading for Constant {
     }
     fn shape(&self) -> Shape {
         Shape::Constant
+    }
+    fn scalar_form(&self) -> Option<ScalarColor<'_>> {
+        Some(ScalarColor::Constant(self.0))
     }
 }

@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use crate::mapping::block::{BlockError, ParamBlock, required};
-use crate::mapping::{ColorShading, FieldNeed, MethodInfo, Point, Shape, Table};
+use crate::mapping::{ColorShading, FieldNeed, MethodInfo, Point, ScalarColor, Shape, Table};
 
 pub const INFO: MethodInfo<dyn ColorShading> = MethodInfo {
     name: "SIMPLE_EMITTER",
@@ -34,5 +34,8 @@ impl ColorShading for SimpleEmitter {
     }
     fn breakpoints(&self) -> &[f64] {
         self.0.values()
+    }
+    fn scalar_form(&self) -> Option<ScalarColor<'_>> {
+        Some(ScalarColor::Table(&self.0))
     }
 }

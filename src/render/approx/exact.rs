@@ -12,8 +12,8 @@
 //! the result (to 1e-9); `step > 0` adds uniform sub-steps on top.
 
 use super::{Approx, Method, MethodInfo, Pixel, Scratch, accumulate, non_negative, rule};
-use crate::integrate::{Contribution, RuleInfo, Segment};
-use crate::mapping::{Lines, Shape};
+use crate::integrate::{Contribution, RuleInfo, Segment, linear};
+use crate::mapping::{Lines, Shape, Transfer1D};
 use crate::render::cell::EyeCell;
 use crate::render::footprint::Footprint;
 use crate::render::frame::Frame;
@@ -80,6 +80,18 @@ impl Ray<'_> {
 }
 
 impl Exact {
+    /// How many uniform sub-steps the pixel's segment gets, and its length.
+    #[inline]
+    fn pieces(&self, px: &Pixel) -> (usize, f64) {
+        let length = (px.far - px.near) * px.speed;
+        let pieces = if self.step > 0.0 && length > self.step {
+            (length / self.step).ceil() as usize
+        } else {
+            1
+        };
+        (pieces, length)
+    }
+
     /// The contribution of the piece `[u0, u1]` with the `linear` rule: exact where η is at most
     /// quadratic and χ linear along it, refined by halving otherwise.
     fn linear_piece(
@@ -144,25 +156,120 @@ impl Exact {
     }
 }
 
-impl Approx for Exact {
-    type Cell = ();
+impl Exact {
+    /// The pixel with the mapping as a merged 1D transfer function: the field along the ray is
+    /// `s(τ) = Σ (a_i + τ·b_i)·v_i`, linear, so its values at the ends give every breakpoint
+    /// crossing directly, and each piece between them is one call of the rule with η and χ
+    /// from one piece of the table. Same pieces and values as the general path below.
+    #[inline]
+    fn transfer_pixel<R: Fn(&Segment) -> Contribution>(
+        &self,
+        rule: R,
+        t: &Transfer1D,
+        v: &[f64; 4],
+        px: &Pixel,
+        s: &mut Scratch,
+    ) -> Contribution {
+        let (pieces, length) = self.pieces(px);
+        let (a, b) = (&px.iv.a, &px.iv.b);
+        let s0 = a[0] * v[0] + a[1] * v[1] + a[2] * v[2] + a[3] * v[3];
+        let slope = b[0] * v[0] + b[1] * v[1] + b[2] * v[2] + b[3] * v[3];
+        let (s_far, s_near) = (s0 + px.far * slope, s0 + px.near * slope);
+        let at = |u: f64| s_far + u * (s_near - s_far);
+        if !self.rule.exact_for_linear {
+            // The thesis's rules: values at the piece ends, from the far end to the near end.
+            let ds = length / pieces as f64;
+            let mut acc = ([0.0; 3], 1.0);
+            let mut far = t.eval(s_far);
+            for k in 1..=pieces {
+                let near = t.eval(at(k as f64 / pieces as f64));
+                let seg = Segment {
+                    eta: [far.0, near.0],
+                    chi: [far.1, near.1],
+                    ds,
+                    eta_mid: None,
+                };
+                accumulate(&mut acc, rule(&seg));
+                far = near;
+            }
+            return acc;
+        }
+        let quadratic = t.quadratic_eta();
+        let segment = |u0: f64, u1: f64, p: usize| {
+            let (s0, s1) = (at(u0), at(u1));
+            let mid = 0.5 * (s0 + s1);
+            let far = t.eval_in(p, s0);
+            let near = t.eval_in(p, s1);
+            let seg = Segment {
+                eta: [far.0, near.0],
+                chi: [far.1, near.1],
+                ds: (u1 - u0) * length,
+                eta_mid: if quadratic {
+                    Some(t.eval_in(p, mid).0)
+                } else {
+                    None
+                },
+            };
+            rule(&seg)
+        };
+        let piece = |u0: f64, u1: f64| segment(u0, u1, t.piece(0.5 * (at(u0) + at(u1))));
+        // The common case: both ends in the same piece of the table, no sub-steps.
+        let p = t.piece(s_far);
+        if pieces == 1 && t.piece(s_near) == p {
+            return segment(0.0, 1.0, p);
+        }
+        let knots = t.knots_between(s_far, s_near);
+        s.cuts.clear();
+        s.cuts
+            .extend((0..=pieces).map(|k| k as f64 / pieces as f64));
+        s.cuts
+            .extend(knots.iter().map(|&x| (x - s_far) / (s_near - s_far)));
+        s.cuts.sort_by(f64::total_cmp);
+        s.cuts.dedup();
+        let mut acc = ([0.0; 3], 1.0);
+        for w in s.cuts.windows(2) {
+            if w[1] > w[0] {
+                accumulate(&mut acc, piece(w[0], w[1]));
+            }
+        }
+        acc
+    }
+}
 
-    fn prepare(&self, _: &Frame, _: usize, _: &EyeCell, _: &Footprint, _: &mut Scratch) {}
+impl Approx for Exact {
+    /// The transfer function's field at the cell's nodes (zeros without one).
+    type Cell = [f64; 4];
+
+    fn prepare(
+        &self,
+        f: &Frame,
+        cell: usize,
+        _: &EyeCell,
+        _: &Footprint,
+        _: &mut Scratch,
+    ) -> [f64; 4] {
+        f.node_values(cell)
+    }
 
     fn pixel(
         &self,
         f: &Frame,
         cell: usize,
-        _: &(),
+        v: &[f64; 4],
         px: &Pixel,
         s: &mut Scratch,
     ) -> ([f64; 3], f64) {
-        let length = (px.far - px.near) * px.ray.speed();
-        let pieces = if self.step > 0.0 && length > self.step {
-            (length / self.step).ceil() as usize
-        } else {
-            1
-        };
+        if let Some(t) = &f.transfer {
+            // The closed-form rule called directly, so that it is inlined here.
+            let acc = if self.rule.name == linear::INFO.name {
+                self.transfer_pixel(linear::rule, t, v, px, s)
+            } else {
+                self.transfer_pixel(self.rule.rule, t, v, px, s)
+            };
+            let k = self.brightness;
+            return ([acc.0[0] * k, acc.0[1] * k, acc.0[2] * k], acc.1);
+        }
+        let (pieces, length) = self.pieces(px);
         let ray = Ray { f, cell, px };
         let mut acc = ([0.0; 3], 1.0);
         if self.rule.exact_for_linear {

@@ -81,7 +81,7 @@ impl Approx for InterpolateCoeff {
         let seg = Segment {
             eta: [far.0, near.0],
             chi: [far.1, near.1],
-            ds: (px.far - px.near) * px.ray.speed(),
+            ds: (px.far - px.near) * px.speed,
             eta_mid: None,
         };
         let (b, theta) = (self.rule.rule)(&seg);

@@ -43,6 +43,20 @@ pub enum ColorCell {
 
 impl Approx for InterpolateColor {
     type Cell = ColorCell;
+    const SCREEN_SPACE: bool = true;
+
+    fn fan_values(&self, c: &ColorCell) -> Option<[[f64; 4]; 5]> {
+        match c {
+            ColorCell::Gouraud(v) => Some(v.map(|(t, e)| [t, e[0], e[1], e[2]])),
+            ColorCell::Clipped(_) => None,
+        }
+    }
+
+    #[inline]
+    fn screen_pixel(&self, v: [f64; 4]) -> ([f64; 3], f64) {
+        let (theta, k) = (v[0], self.brightness * (1.0 - v[0]));
+        ([v[1] * k, v[2] * k, v[3] * k], theta)
+    }
 
     fn prepare(
         &self,
@@ -86,16 +100,7 @@ impl Approx for InterpolateColor {
     ) -> ([f64; 3], f64) {
         match c {
             ColorCell::Gouraud(v) => {
-                let corners = px.corners;
-                let mut theta = 0.0;
-                let mut eta = [0.0; 3];
-                for k in 0..3 {
-                    let (t, e) = v[corners[k] as usize];
-                    theta += px.weights[k] * t;
-                    for ch in 0..3 {
-                        eta[ch] += px.weights[k] * e[ch];
-                    }
-                }
+                let (mut theta, eta) = gouraud(v, px.corners, px.weights);
                 let full = px.iv.far - px.iv.near;
                 if px.far - px.near < full {
                     theta = theta.max(0.0).powf((px.far - px.near) / full);
@@ -109,7 +114,7 @@ impl Approx for InterpolateColor {
                 let seg = Segment {
                     eta: [far.0, near.0],
                     chi: [far.1, near.1],
-                    ds: (px.far - px.near) * px.ray.speed(),
+                    ds: (px.far - px.near) * px.speed,
                     eta_mid: None,
                 };
                 let (b, theta) = const_ea_rule(&seg);
@@ -117,4 +122,19 @@ impl Approx for InterpolateColor {
             }
         }
     }
+}
+
+/// θ and η̄ interpolated over a footprint triangle.
+#[inline]
+fn gouraud(v: &[(f64, [f64; 3]); 5], corners: [u8; 3], weights: [f64; 3]) -> (f64, [f64; 3]) {
+    let mut theta = 0.0;
+    let mut eta = [0.0; 3];
+    for k in 0..3 {
+        let (t, e) = v[corners[k] as usize];
+        theta += weights[k] * t;
+        for ch in 0..3 {
+            eta[ch] += weights[k] * e[ch];
+        }
+    }
+    (theta, eta)
 }

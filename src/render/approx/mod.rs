@@ -16,12 +16,12 @@ use super::cell::{EyeCell, Interval};
 use super::footprint::Footprint;
 use super::frame::Frame;
 use crate::integrate::{self, RuleInfo};
-use crate::scene::Ray;
 
 /// What a method sees of one covered pixel.
 #[derive(Debug, Clone, Copy)]
 pub struct Pixel {
-    pub ray: Ray,
+    /// World length per unit of the ray parameter τ (`|d|`; 1 for orthographic rays).
+    pub speed: f64,
     /// The ray's whole passage through the cell.
     pub iv: Interval,
     /// The part to integrate, after clipping to the camera's depth range and to a line in front:
@@ -47,9 +47,22 @@ pub struct Scratch {
 /// brightness factor already applied to `b`.
 pub trait Approx: Sync {
     type Cell;
+    /// A method whose pixels, where nothing clips the cell, follow from the screen-space
+    /// weights alone ([`Approx::screen_pixel`]): the ray interval is then not computed.
+    const SCREEN_SPACE: bool = false;
     /// Whether the ray is clipped to the camera's depth range (`test` is not).
     fn clips(&self) -> bool {
         true
+    }
+    /// For a cell drawn in screen space: the values `[θ, η̄ (RGB)]` at the fan's vertices
+    /// (nodes 0…3, the thick point 4), interpolated over the footprint; `None` to draw the cell
+    /// per ray instead.
+    fn fan_values(&self, _c: &Self::Cell) -> Option<[[f64; 4]; 5]> {
+        None
+    }
+    /// The contribution of a pixel from the interpolated fan values.
+    fn screen_pixel(&self, _values: [f64; 4]) -> ([f64; 3], f64) {
+        unreachable!("only methods with SCREEN_SPACE are asked for screen-space pixels")
     }
     fn prepare(
         &self,

@@ -122,6 +122,20 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
         seconds,
         fb.max_channel()
     ));
+    if std::env::var_os("VORANG_TIMING").is_some() {
+        let t = stats.timing;
+        let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
+        s.reporter.info(&format!(
+            "  setup {:.1} ms, sort {:.1} ms ({}), bin {:.1} ms, draw {:.1} ms; {} ray segments on {} threads",
+            ms(t.setup),
+            ms(t.sort),
+            stats.sort,
+            ms(t.bin),
+            ms(t.draw),
+            stats.fragments,
+            rayon::current_num_threads()
+        ));
+    }
     s.written.push(path.clone());
     Ok(path.display().to_string())
 }
