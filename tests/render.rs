@@ -681,3 +681,95 @@ fn bad_render_requests_are_refused() {
     };
     assert!(render(&vol, &m, &flat, &settings(4, 4, "test 0.5"), None).is_err());
 }
+
+/// The merged 1D transfer function (the renderer's fast path) against the general mapping path,
+/// which a category field with a single all-covering line forces: same images up to rounding,
+/// for every method that maps per sample, both compositing orders and both projections.
+#[test]
+fn the_transfer_fast_path_agrees_with_the_general_mapping() {
+    let vol = box_volume(6, [1.0, 1.2, 0.9], 0.1, 3);
+    let table = "0 0 1 -0.5\n0 1 0 0\n1 1 0 0.5\n1 0 0 1\n1 1 1 1.5\n";
+    let absorber = "SIMPLE_ABSORBER @2\n@2\n0.5 -0.4\n4 0.1\n1 0.7\n6 1.2\n";
+    let maps = [
+        (
+            format!("SIMPLE_EMITTER @1\n@1\n{table}"),
+            absorber.to_string(),
+        ),
+        (
+            format!("ABSORPTION_WEIGHTED @1\n@1\n{table}"),
+            absorber.to_string(),
+        ),
+        (
+            "CONSTANT @1\n@1\n0.3 0.6 0.9\n".to_string(),
+            absorber.to_string(),
+        ),
+        (
+            format!("SIMPLE_EMITTER @1\n@1\n{table}"),
+            "CONSTANT @2\n@2\n2.5\n".to_string(),
+        ),
+    ];
+    let views = [
+        View {
+            transforms: vec![TransformOp::Rotate {
+                axis: [1.0, 2.0, 0.5],
+                degrees: 35.0,
+            }],
+            ..View::default()
+        },
+        View {
+            camera: Some(Camera::Persp {
+                fovy: 50.0,
+                aspect: 1.0,
+                near: 0.1,
+                far: 10.0,
+            }),
+            look_at: LookAt {
+                eye: [0.4, 0.3, 1.8],
+                reference: [0.0; 3],
+                up: [0.0, 1.0, 0.0],
+            },
+            ..View::default()
+        },
+    ];
+    let methods = [
+        "exact linear 0 1",
+        "exact linear 0.07 1",
+        "exact constEA 0.03 1",
+        "exact trapez 0 1",
+        "interpolateCoeff linear 1",
+        "interpolateColor 1",
+    ];
+    for (color, alpha) in &maps {
+        let fast = mapping(
+            &vol,
+            &format!("# VoRANG Colormap 1.0\n{color}"),
+            &format!("# VoRANG Alphamap 1.0\n{alpha}"),
+        );
+        assert!(fast.transfer(&vol).is_some(), "{color} / {alpha}");
+        let general = mapping(
+            &vol,
+            &format!("# VoRANG Colormap 1.0\nCategoryField 0\n{color}"),
+            &format!("# VoRANG Alphamap 1.0\nCategoryField 0\n{alpha}"),
+        );
+        assert!(general.transfer(&vol).is_none());
+        for view in &views {
+            for method in methods {
+                for order in [Order::BackToFront, Order::FrontToBack] {
+                    let s = Settings {
+                        order,
+                        ..settings(48, 48, method)
+                    };
+                    let a = render(&vol, &fast, view, &s, None).unwrap().0;
+                    let b = render(&vol, &general, view, &s, None).unwrap().0;
+                    let d = max_diff_fb(&a, &b);
+                    assert!(
+                        a.max_channel() > 0.01,
+                        "{method}: an empty image tests nothing"
+                    );
+                    // The framebuffer holds f32: one rounding step of values up to ~2.
+                    assert!(d <= 1e-6, "{method} {order:?} {color}: differs by {d}");
+                }
+            }
+        }
+    }
+}

@@ -77,7 +77,7 @@ impl EyeCell {
 const PARALLEL: f64 = 1e-12;
 
 /// The interval where all `a_i + τ·b_i ≥ 0`.
-#[inline]
+#[inline(always)]
 fn clip(a: [f64; 4], b: [f64; 4], tol: &[f64; 4]) -> Option<Interval> {
     let (mut near, mut far) = (f64::NEG_INFINITY, f64::INFINITY);
     let (mut entry_face, mut exit_face) = (0, 0);
@@ -177,7 +177,7 @@ impl CellRays {
     }
 
     /// The interval of the ray through screen position (x, y), or `None`.
-    #[inline]
+    #[inline(always)]
     pub fn interval(&self, x: f64, y: f64) -> Option<Interval> {
         let (a, b) = (&self.a, &self.b);
         let a = [

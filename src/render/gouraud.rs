@@ -28,14 +28,12 @@ impl Plane {
     }
 }
 
-/// One fan triangle `(n_i, n_j, T)`: T's weight and n_j's weight as functions of the pixel, and
-/// the values at its two nodes.
+/// One fan triangle `(n_i, n_j, T)`: T's weight, and the interpolated values, as functions of
+/// the pixel.
 #[derive(Debug, Clone, Copy, Default)]
 struct Sector {
     thick: Plane,
-    second: Plane,
-    first_value: [f64; 4],
-    second_value: [f64; 4],
+    values: [Plane; 4],
 }
 
 /// The fan of one cell, ready to shade pixels.
@@ -43,7 +41,6 @@ struct Sector {
 pub struct Fan {
     sectors: [Sector; 4],
     count: usize,
-    thick_value: [f64; 4],
 }
 
 impl Fan {
@@ -63,8 +60,8 @@ impl Fan {
         let mut fan = Fan {
             sectors: [unused; 4],
             count: 0,
-            thick_value: values[THICK as usize],
         };
+        let vt = values[THICK as usize];
         for k in 0..fp.count {
             let corners = fp.corners[k];
             let t = corners.iter().position(|&c| c == THICK)?;
@@ -90,11 +87,19 @@ impl Fan {
                 x: e[1] / area,
                 y: -e[0] / area,
             };
+            // value = λ_T·v_T + (1 − λ_T − λ_j)·v_i + λ_j·v_j = v_i + λ_T·(v_T − v_i) + λ_j·(v_j − v_i).
+            let (vi, vj) = (values[corners[i] as usize], values[corners[j] as usize]);
+            let value = |k: usize| {
+                let (dt, dj) = (vt[k] - vi[k], vj[k] - vi[k]);
+                Plane {
+                    c: vi[k] + thick.c * dt + second.c * dj,
+                    x: thick.x * dt + second.x * dj,
+                    y: thick.y * dt + second.y * dj,
+                }
+            };
             fan.sectors[fan.count] = Sector {
                 thick,
-                second,
-                first_value: values[corners[i] as usize],
-                second_value: values[corners[j] as usize],
+                values: [value(0), value(1), value(2), value(3)],
             };
             fan.count += 1;
         }
@@ -113,17 +118,9 @@ impl Fan {
         ];
         let (a, la) = if l[1] < l[0] { (1, l[1]) } else { (0, l[0]) };
         let (b, lb) = if l[3] < l[2] { (3, l[3]) } else { (2, l[2]) };
-        let (best, lt) = if lb < la { (b, lb) } else { (a, la) };
-        let s = &self.sectors[best];
-        let lj = s.second.at(x, y);
-        let li = 1.0 - lt - lj;
-        let (t, u, v) = (&self.thick_value, &s.first_value, &s.second_value);
-        [
-            lt * t[0] + li * u[0] + lj * v[0],
-            lt * t[1] + li * u[1] + lj * v[1],
-            lt * t[2] + li * u[2] + lj * v[2],
-            lt * t[3] + li * u[3] + lj * v[3],
-        ]
+        let best = if lb < la { b } else { a };
+        let v = &self.sectors[best].values;
+        [v[0].at(x, y), v[1].at(x, y), v[2].at(x, y), v[3].at(x, y)]
     }
 }
 

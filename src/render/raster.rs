@@ -205,60 +205,69 @@ impl<const N: usize> Convex<N> {
     }
 
     /// Calls `f(x, y, rows)` for every covered pixel, `rows` the edges' row terms.
+    ///
+    /// Each edge function is monotone in x along a row (so is its rounded value): the pixels
+    /// inside one edge form a half-line, those inside all of them a run. Per edge, the end of
+    /// its half-line is estimated from the root (E_k = 0 at px = c.x + row/d.y) and settled with
+    /// the exact test of that edge alone — usually two evaluations.
     #[inline]
     fn scan(&self, mut f: impl FnMut(usize, usize, &[f64; N])) {
-        let inside = |e: f64, owned: bool| e > 0.0 || (e == 0.0 && owned);
+        // Without short-circuits: no branch to mispredict.
+        let inside = |e: f64, owned: bool| (e > 0.0) | ((e == 0.0) & owned);
         let (x0, x1) = (self.x0, self.x1);
         for y in self.y0..self.y1 {
             let py = y as f64 + 0.5;
             let rows: [f64; N] = std::array::from_fn(|k| self.edges[k].row(py));
-            let covered = |x: usize| {
-                let px = x as f64 + 0.5;
-                (0..N).all(|k| inside(self.edges[k].at_row(rows[k], px), self.owns[k]))
-            };
-            // Each edge function is monotone in x along the row (so is its rounded value), so
-            // the covered pixels form one run. Estimate its ends from the edges' roots
-            // (E_k = 0 at px = c.x + row/d.y), then settle them with the exact test.
-            let (mut from, mut to) = (x0 as f64, x1 as f64);
-            let mut empty = false;
+            let (mut from, mut to) = (x0, x1);
             for k in 0..N {
-                let e = &self.edges[k];
+                let (e, owns) = (&self.edges[k], self.owns[k]);
+                let test = |x: usize| inside(e.at_row(rows[k], x as f64 + 0.5), owns);
                 let slope = -e.sign * e.d[1];
                 if slope == 0.0 {
-                    empty |= !inside(e.sign * rows[k], self.owns[k]);
+                    if !inside(e.sign * rows[k], owns) {
+                        to = from;
+                    }
                     continue;
                 }
+                // The first pixel whose centre is past the root, within [x0, x1]. The root is
+                // accurate to far below a pixel, so this is the end of the edge's half-line but
+                // for centres exactly on the edge, where ownership decides: check the two
+                // pixels around it, and walk only if that fails.
                 let root = e.c[0] + rows[k] * self.inv_dy[k];
-                if slope > 0.0 {
-                    from = from.max(floor(root - 0.5));
+                let mut x = if root.is_finite() {
+                    (floor(root - 0.5) + 1.0).clamp(x0 as f64, x1 as f64) as usize
+                } else if slope > 0.0 {
+                    x0
                 } else {
-                    to = to.min(floor(root + 1.5));
+                    x1
+                };
+                let before = x > x0 && test(x - 1);
+                let at = x < x1 && test(x);
+                if slope > 0.0 {
+                    // Inside from some x on: find the first.
+                    if before || !at {
+                        while x > x0 && test(x - 1) {
+                            x -= 1;
+                        }
+                        while x < x1 && !test(x) {
+                            x += 1;
+                        }
+                    }
+                    from = from.max(x);
+                } else {
+                    // Inside up to some x: find the end (exclusive).
+                    if !before || at {
+                        while x < x1 && test(x) {
+                            x += 1;
+                        }
+                        while x > x0 && !test(x - 1) {
+                            x -= 1;
+                        }
+                    }
+                    to = to.min(x);
                 }
             }
-            if empty || from >= to {
-                continue;
-            }
-            let (mut a, mut b) = (from as usize, to as usize);
-            // The run starts at the first covered pixel at or after a − 1 …
-            a = a.saturating_sub(1).max(x0);
-            while a < b && !covered(a) {
-                a += 1;
-            }
-            if a == b {
-                continue;
-            }
-            while a > x0 && covered(a - 1) {
-                a -= 1;
-            }
-            // … and ends after the last covered one.
-            b = (b + 1).min(x1);
-            while b > a + 1 && !covered(b - 1) {
-                b -= 1;
-            }
-            while b < x1 && covered(b) {
-                b += 1;
-            }
-            for x in a..b {
+            for x in from..to {
                 f(x, y, &rows);
             }
         }
