@@ -26,7 +26,7 @@
 //!
 //! In `BINARY` files the header stays ASCII and each block is raw big-endian data. Indices are
 //! 1-based. Triangles may be coded by nodes or edges, tetrahedra by nodes, edges or triangles;
-//! every coding is resolved to node indices and cross-checked. See [`read`] and [`write`].
+//! every coding is resolved to node indices and cross-checked. See [`read`](mod@read) and [`write`](mod@write).
 
 mod ascii;
 mod binary;

@@ -3,14 +3,18 @@
 //!
 //! 1. Node positions to eye space (model from `vol_*`, view from `look_at`).
 //! 2. Visibility order of the cells ([`crate::sort`]).
-//! 3. Cells are binned, in that order, into the 32×32 screen tiles their footprint touches.
-//! 4. Tiles are rendered in parallel, each into its own buffer: per cell, its footprint is
-//!    scan-converted; per covered pixel the ray's interval in the cell is clipped to the camera's
-//!    depth range and to a grid line in front, the approximation method gives the cell's
-//!    `(b, θ)`, and that is composited back to front (`I = I·θ + b`) or front to back.
+//! 3. Cells are binned, in that order, into the 64×64 screen tiles their footprint's bounding
+//!    box touches.
+//! 4. Tiles are rendered in parallel (the ones with the most cells first), each into its own
+//!    buffer. Per cell: its footprint is scan-converted (the outline, or the Shirley–Tuchman
+//!    triangles where a method needs them); per covered pixel the ray's interval in the cell
+//!    ([`cell::CellRays`]) is clipped to the camera's depth range and to a grid line in front,
+//!    the approximation method gives the cell's `(b, θ)`, and that is composited back to front
+//!    (`I = I·θ + b`) or front to back. `interpolateColor` on unclipped cells needs no ray at
+//!    all: it shades the outline with [`gouraud::Fan`].
 //!
 //! Every pixel sees the same cells in the same order whatever the number of threads, so the image
-//! is bit-identical on any machine.
+//! is bit-identical on any machine. Where the time goes: `docs/performance.md`.
 
 pub mod approx;
 pub mod cell;
@@ -43,7 +47,8 @@ use crate::scene::{Projector, View};
 use crate::sort::{self, SortInput};
 use crate::volume::Volume;
 
-/// Default edge length of a screen tile in pixels.
+/// Default edge length of a screen tile in pixels: large enough that few cells are set up in
+/// two tiles, small enough for dozens of tiles per core at 512².
 pub const TILE: usize = 64;
 
 /// Front-to-back compositing stops for a pixel once its accumulated transparency falls below

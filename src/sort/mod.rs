@@ -3,7 +3,7 @@
 //! Projected-tetrahedra compositing needs the cells back to front (or front to back). For a
 //! connected convex mesh MPVO (Williams 1992) orders them exactly: across every interior face
 //! the cell on the viewer's side comes later; a topological sort of that relation is a correct
-//! order. Meshes with concavities or holes need more: [`mpvo`] with depth priority is Williams'
+//! order. Meshes with concavities or holes need more: `mpvo` with depth priority is Williams'
 //! MPVONC heuristic (the thesis's `VRxConcaveSort`). Each strategy is one entry in [`SORTS`].
 
 mod convex;
