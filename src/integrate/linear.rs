@@ -52,15 +52,17 @@ pub fn rule(s: &Segment) -> Contribution {
             } else {
                 moments(c, 0.5 * (a - c))
             };
-            [0, 1, 2].map(|ch| l * (near[ch] * j[0] + (far[ch] - near[ch]) * j[1]))
+            let ch = |ch: usize| l * (near[ch] * j[0] + (far[ch] - near[ch]) * j[1]);
+            [ch(0), ch(1), ch(2)]
         }
         Some(mid) => {
             let j = moments(c, 0.5 * (a - c));
-            [0, 1, 2].map(|ch| {
+            let ch = |ch: usize| {
                 let p1 = -3.0 * near[ch] + 4.0 * mid[ch] - far[ch];
                 let p2 = 2.0 * near[ch] - 4.0 * mid[ch] + 2.0 * far[ch];
                 l * (near[ch] * j[0] + p1 * j[1] + p2 * j[2])
-            })
+            };
+            [ch(0), ch(1), ch(2)]
         }
     };
     (b, theta)

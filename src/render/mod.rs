@@ -341,6 +341,25 @@ fn tile_range(f: &Frame, cell: usize, tile: usize, tx: usize, ty: usize) -> Opti
     (r[2] < tx as u32 && r[3] < ty as u32).then_some(r)
 }
 
+/// Composites a cell's `(b, θ)` onto a pixel's state: back to front the intensity becomes
+/// `I·θ + b`; front to back the colour gains `T·b`. Either way the transparency `T` becomes `T·θ`.
+#[inline]
+fn composite(order: Order, a: &mut ([f64; 3], f64), (b, theta): ([f64; 3], f64)) {
+    match order {
+        Order::BackToFront => {
+            for ch in 0..3 {
+                a.0[ch] = a.0[ch] * theta + b[ch];
+            }
+        }
+        Order::FrontToBack => {
+            for ch in 0..3 {
+                a.0[ch] += a.1 * b[ch];
+            }
+        }
+    }
+    a.1 *= theta;
+}
+
 /// Renders the cells `list` (in compositing order) into one tile; also returns the number of
 /// pixel–cell pairs integrated.
 fn render_tile<A: Approx>(
@@ -395,7 +414,6 @@ fn render_tile<A: Approx>(
         let Some(fp) = footprint(tets[cell], &eye, &f.screen_corners(cell), &f.projector) else {
             continue;
         };
-        let rays = CellRays::new(&ec, &f.projector);
         // Along every ray τ is the depth, so the cell's depth range bounds every interval:
         // inside the camera's range and before every line, no pixel needs clipping.
         let (lo, hi) = eye
@@ -409,21 +427,7 @@ fn render_tile<A: Approx>(
         let camera_clips = method.clips() && (lo < dmin || hi > dmax);
         let line_clips = hi > nearest_line;
         let unclipped = !camera_clips && !line_clips;
-        let composite = |a: &mut ([f64; 3], f64), (b, theta): ([f64; 3], f64)| {
-            match order {
-                Order::BackToFront => {
-                    for ch in 0..3 {
-                        a.0[ch] = a.0[ch] * theta + b[ch];
-                    }
-                }
-                Order::FrontToBack => {
-                    for ch in 0..3 {
-                        a.0[ch] += a.1 * b[ch];
-                    }
-                }
-            }
-            a.1 *= theta;
-        };
+        let composite = |a: &mut ([f64; 3], f64), piece| composite(order, a, piece);
         let hull = fp.hull();
         let mut prepared: Option<A::Cell> = None;
         // Screen-space methods on unclipped cells: Gouraud shading over the outline.
@@ -449,6 +453,7 @@ fn render_tile<A: Approx>(
             }
         }
         // Everything else per ray: over the outline where the method needs no fan triangle.
+        let rays = CellRays::new(&ec, &f.projector);
         let hull = if A::SCREEN_SPACE { None } else { hull };
         let parts = if hull.is_some() { 1 } else { fp.count };
         for k in 0..parts {
