@@ -773,3 +773,85 @@ fn the_transfer_fast_path_agrees_with_the_general_mapping() {
         }
     }
 }
+
+/// `test` draws every face a ray crosses once. Counted by brute force over all cells: the cells
+/// the ray passes through for a length, plus the exit from the (convex) mesh. The colour cuboid
+/// is a regular grid, so in its thesis view many pixel centres fall exactly on projected edges,
+/// where a ray only touches cells (an interval of rounding size) and must draw nothing there.
+#[test]
+fn test_method_draws_each_crossed_face_once() {
+    let (vol, _) = Volume::load(std::path::Path::new("examples/farbraum/farbraum.hmesh")).unwrap();
+    let m = constant_maps(&vol, [1.0; 3], 1.0);
+    let view = View {
+        transforms: vec![
+            TransformOp::Rotate {
+                axis: [0.0, 1.0, 0.0],
+                degrees: -30.0,
+            },
+            TransformOp::Rotate {
+                axis: [1.0, 0.0, 0.0],
+                degrees: 25.0,
+            },
+            TransformOp::Scale([0.85; 3]),
+        ],
+        camera: Some(Camera::Ortho {
+            left: -1.25,
+            right: 1.25,
+            bottom: -0.75,
+            top: 0.75,
+            front: -10.0,
+            back: 10.0,
+        }),
+        ..View::default()
+    };
+    let (w, h) = (500, 300);
+    let images = [Order::BackToFront, Order::FrontToBack].map(|order| {
+        let s = Settings {
+            order,
+            ..settings(w, h, "test 0.3")
+        };
+        render(&vol, &m, &view, &s, None).unwrap().0
+    });
+    let bbox = vol.mesh.bbox();
+    let to_eye = view
+        .view_matrix()
+        .after(&view.model(bbox.center()).unwrap());
+    let projector = Projector::new(view.camera.as_ref(), bbox.size(), w, h).unwrap();
+    let cells: Vec<(EyeCell, f64)> = (0..vol.mesh.tet_count())
+        .map(|c| {
+            let eye = vol.mesh.corners(c).map(|p| to_eye.apply(p));
+            let depth = eye.map(|p| -p[2]);
+            let extent = depth.iter().cloned().fold(f64::NEG_INFINITY, f64::max)
+                - depth.iter().cloned().fold(f64::INFINITY, f64::min);
+            (EyeCell::new(&eye).unwrap(), extent)
+        })
+        .collect();
+    let mut touched = 0;
+    for y in 0..h {
+        for x in 0..w {
+            let ray = projector.ray(x, y);
+            let mut crossed = 0;
+            for (cell, extent) in &cells {
+                match cell.interval(&ray) {
+                    // Longer than rounding (the renderer's threshold, far below a pixel).
+                    Some(iv) if iv.far - iv.near > 1e-9 * extent => crossed += 1,
+                    Some(_) => touched += 1,
+                    None => {}
+                }
+            }
+            let faces = if crossed > 0 { crossed + 1 } else { 0 };
+            let want = 1.0 - 0.7f64.powi(faces);
+            for fb in &images {
+                let got = f64::from(fb.pixels[y * w + x][3]);
+                assert!(
+                    (got - want).abs() < 1e-6,
+                    "pixel ({x}, {y}): opacity {got}, {faces} faces crossed give {want}"
+                );
+            }
+        }
+    }
+    assert!(
+        touched > 0,
+        "the view must have rays that only touch a cell"
+    );
+}

@@ -226,7 +226,21 @@ impl TetMesh {
     /// The four corner positions of a cell.
     #[inline]
     pub fn corners(&self, tet: usize) -> [[f64; 3]; 4] {
-        self.tets[tet].map(|n| self.nodes[n as usize])
+        self.gather(tet, &self.nodes)
+    }
+
+    /// A per-node quantity (positions in eye space, on screen, field values …) at the four
+    /// corners of a cell. Written out rather than with `array::map`, which does not always
+    /// inline — this runs for every cell of every frame.
+    #[inline]
+    pub fn gather<T: Copy>(&self, tet: usize, per_node: &[T]) -> [T; 4] {
+        let n = self.tets[tet];
+        [
+            per_node[n[0] as usize],
+            per_node[n[1] as usize],
+            per_node[n[2] as usize],
+            per_node[n[3] as usize],
+        ]
     }
 
     /// Volume of a cell (positive).

@@ -9,7 +9,7 @@
 //! perspective and orthographic rays alike.
 
 use crate::mesh::barycentric_gradients;
-use crate::scene::{Projector, Ray};
+use crate::scene::{Projector, Ray, RayPlanes};
 
 /// A cell's barycentric functions λ_i(p) = g_i·p + h_i in eye space.
 #[derive(Debug, Clone, Copy)]
@@ -125,45 +125,11 @@ impl CellRays {
         let mut a = [[0.0; 3]; 4];
         let mut b = [[0.0; 3]; 4];
         let mut tol = [0.0; 4];
-        // The ray at (x, y) is o + τ·d with o, d affine in (x, y) (see Projector::ray_at).
-        let (o, d, d_max) = match *projector {
-            Projector::Ortho {
-                left,
-                right,
-                bottom,
-                top,
-                width,
-                height,
-                ..
-            } => {
-                let (sx, sy) = ((right - left) / width, (top - bottom) / height);
-                // o = (left + x·sx, top − y·sy, 0), d = (0, 0, −1).
-                (
-                    [[left, sx, 0.0], [top, 0.0, -sy], [0.0; 3]],
-                    [[0.0; 3], [0.0; 3], [-1.0, 0.0, 0.0]],
-                    1.0,
-                )
-            }
-            Projector::Persp {
-                tan_x,
-                tan_y,
-                width,
-                height,
-                ..
-            } => {
-                // d = ((2x/W − 1)·tx, (1 − 2y/H)·ty, −1), o = 0.
-                let d = [
-                    [-tan_x, 2.0 * tan_x / width, 0.0],
-                    [tan_y, 0.0, -2.0 * tan_y / height],
-                    [-1.0, 0.0, 0.0],
-                ];
-                (
-                    [[0.0; 3]; 3],
-                    d,
-                    (1.0 + tan_x * tan_x + tan_y * tan_y).sqrt(),
-                )
-            }
-        };
+        let RayPlanes {
+            origin: o,
+            dir: d,
+            max_speed: d_max,
+        } = projector.ray_planes();
         for i in 0..4 {
             let g = cell.g[i];
             for k in 0..3 {

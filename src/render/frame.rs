@@ -54,16 +54,7 @@ impl Frame<'_> {
     #[inline]
     pub fn node_values(&self, cell: usize) -> [f64; 4] {
         match &self.transfer {
-            Some(t) if !t.node_values.is_empty() => {
-                let n = self.vol.mesh.tets()[cell];
-                let v = &t.node_values;
-                [
-                    v[n[0] as usize],
-                    v[n[1] as usize],
-                    v[n[2] as usize],
-                    v[n[3] as usize],
-                ]
-            }
+            Some(t) if !t.node_values.is_empty() => self.vol.mesh.gather(cell, &t.node_values),
             _ => [0.0; 4],
         }
     }
@@ -71,26 +62,12 @@ impl Frame<'_> {
     /// The four corners of a cell in eye space.
     #[inline]
     pub fn eye_corners(&self, cell: usize) -> [[f64; 3]; 4] {
-        let n = self.vol.mesh.tets()[cell];
-        let e = &self.eye_nodes;
-        [
-            e[n[0] as usize],
-            e[n[1] as usize],
-            e[n[2] as usize],
-            e[n[3] as usize],
-        ]
+        self.vol.mesh.gather(cell, &self.eye_nodes)
     }
 
     #[inline]
     pub fn screen_corners(&self, cell: usize) -> [[f64; 2]; 4] {
-        let n = self.vol.mesh.tets()[cell];
-        let s = &self.screen;
-        [
-            s[n[0] as usize],
-            s[n[1] as usize],
-            s[n[2] as usize],
-            s[n[3] as usize],
-        ]
+        self.vol.mesh.gather(cell, &self.screen)
     }
 
     /// I0 at a pixel.

@@ -61,17 +61,8 @@ pub fn edges(vol: &Volume, lines: &LineDraw) -> Result<Vec<[u32; 2]>, Error> {
     Ok(e)
 }
 
-/// The relative depth by which lines are moved towards the viewer (see [`depth_buffer`]).
-pub const LINE_TIE: f64 = 1e-9;
-
 /// Per pixel: the depth of the nearest line, ∞ where there is none. Lines are clipped to the
 /// camera's depth range and drawn one pixel wide (a DDA along the major axis).
-///
-/// Where a ray meets a line exactly at the line's depth (a face through the edge, on a pixel
-/// centre the line passes through), rounding alone would decide which comes first. The stored
-/// depth is therefore moved towards the viewer by [`LINE_TIE`] of the edge's coordinates, far
-/// above rounding error and far below any visible depth: what lies at the line's own depth is
-/// behind it, always.
 pub fn depth_buffer(
     edges: &[[u32; 2]],
     eye: &[[f64; 3]],
@@ -84,7 +75,6 @@ pub fn depth_buffer(
     for &[a, b] in edges {
         let (p, q) = (eye[a as usize], eye[b as usize]);
         let (dp, dq) = (-p[2], -q[2]);
-        let tie = LINE_TIE * p.iter().chain(&q).fold(0.0f64, |m, v| m.max(v.abs()));
         // Clip the segment to dmin ≤ depth ≤ dmax.
         let (mut t0, mut t1) = (0.0f64, 1.0f64);
         for (bound, keep_above) in [(dmin, true), (dmax, false)] {
@@ -129,7 +119,6 @@ pub fn depth_buffer(
             } else {
                 d0 + u * (d1 - d0)
             };
-            let d = d - tie;
             let i = y as usize * width + x as usize;
             if d < buf[i] {
                 buf[i] = d;

@@ -403,6 +403,9 @@ fn render_tile<A: Approx>(
         }
     }
     let mut scratch = Scratch::default();
+    if A::FACES {
+        scratch.faces = vec![[f64::NAN; 2]; n];
+    }
     let mut fragments = 0u64;
     let tets = f.vol.mesh.tets();
     for &cell in list {
@@ -423,6 +426,7 @@ fn render_tile<A: Approx>(
             });
         // A ray through an edge or a node of the cell, exactly on a pixel centre, only touches
         // it: its interval is of rounding size and is skipped (so `test` draws no faces there).
+        // Depths that close are also the same point for `test`'s shared faces.
         let touch = TOUCH * (hi - lo);
         let camera_clips = method.clips() && (lo < dmin || hi > dmax);
         let line_clips = hi > nearest_line;
@@ -482,6 +486,7 @@ fn render_tile<A: Approx>(
                 }
                 let c =
                     prepared.get_or_insert_with(|| method.prepare(f, cell, &ec, &fp, &mut scratch));
+                let slot = (y - rect.y0) * tw + (x - rect.x0);
                 let speed = match f.projector {
                     Projector::Ortho { .. } => 1.0,
                     Projector::Persp { .. } => f.projector.ray(x, y).speed(),
@@ -493,6 +498,8 @@ fn render_tile<A: Approx>(
                     far,
                     corners,
                     weights,
+                    slot,
+                    touch,
                 };
                 fragments += 1;
                 composite(a, method.pixel(f, cell, c, &px, &mut scratch));

@@ -101,6 +101,16 @@ impl Ray {
     }
 }
 
+/// The rays of a [`Projector`] as affine functions of the screen position: component `k` of
+/// the ray through (x, y) is `c[k][0] + c[k][1]·x + c[k][2]·y` for origin and direction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct RayPlanes {
+    pub origin: [[f64; 3]; 3],
+    pub dir: [[f64; 3]; 3],
+    /// The largest `|dir|` over the image (at its corners).
+    pub max_speed: f64,
+}
+
 /// The camera resolved for an image size: rays of pixels and projection of eye points.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Projector {
@@ -230,6 +240,45 @@ impl Projector {
         }
     }
 
+    /// The rays of all screen positions at once: the origin and direction of the ray through
+    /// (x, y) (as in [`Projector::ray_at`]) are affine functions of x and y. Lets a cell compute
+    /// where every pixel's ray meets it from a few coefficients.
+    pub fn ray_planes(&self) -> RayPlanes {
+        match *self {
+            Projector::Ortho {
+                left,
+                right,
+                bottom,
+                top,
+                width,
+                height,
+                ..
+            } => {
+                let (sx, sy) = ((right - left) / width, (top - bottom) / height);
+                RayPlanes {
+                    origin: [[left, sx, 0.0], [top, 0.0, -sy], [0.0; 3]],
+                    dir: [[0.0; 3], [0.0; 3], [-1.0, 0.0, 0.0]],
+                    max_speed: 1.0,
+                }
+            }
+            Projector::Persp {
+                tan_x,
+                tan_y,
+                width,
+                height,
+                ..
+            } => RayPlanes {
+                origin: [[0.0; 3]; 3],
+                dir: [
+                    [-tan_x, 2.0 * tan_x / width, 0.0],
+                    [tan_y, 0.0, -2.0 * tan_y / height],
+                    [-1.0, 0.0, 0.0],
+                ],
+                max_speed: (1.0 + tan_x * tan_x + tan_y * tan_y).sqrt(),
+            },
+        }
+    }
+
     /// The ray of pixel (i, j).
     #[inline]
     pub fn ray(&self, i: usize, j: usize) -> Ray {
@@ -273,6 +322,46 @@ impl Projector {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ray_planes_are_the_rays() {
+        for cam in [
+            Camera::Ortho {
+                left: -2.0,
+                right: 1.5,
+                bottom: -1.0,
+                top: 1.3,
+                front: 0.0,
+                back: 9.0,
+            },
+            Camera::Persp {
+                fovy: 50.0,
+                aspect: 1.4,
+                near: 0.1,
+                far: 9.0,
+            },
+        ] {
+            let p = Projector::new(Some(&cam), [1.0; 3], 40, 30).unwrap();
+            let planes = p.ray_planes();
+            let mut fastest = 0.0f64;
+            for (x, y) in [
+                (0.0, 0.0),
+                (40.0, 0.0),
+                (0.0, 30.0),
+                (40.0, 30.0),
+                (13.5, 7.25),
+            ] {
+                let r = p.ray_at(x, y);
+                let at = |c: &[[f64; 3]; 3], k: usize| c[k][0] + c[k][1] * x + c[k][2] * y;
+                for k in 0..3 {
+                    assert!((at(&planes.origin, k) - r.origin[k]).abs() < 1e-14);
+                    assert!((at(&planes.dir, k) - r.dir[k]).abs() < 1e-14);
+                }
+                fastest = fastest.max(r.speed());
+            }
+            assert!((planes.max_speed - fastest).abs() < 1e-14);
+        }
+    }
 
     #[test]
     fn pixel_centres_follow_the_spec() {

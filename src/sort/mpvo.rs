@@ -24,7 +24,7 @@ pub const MPVONC: SortInfo = SortInfo {
 /// front), −1 if on the inner side, 0 if exactly in its plane.
 #[cfg(test)]
 fn facing(input: &SortInput, cell: usize, f: usize) -> i8 {
-    let corners = input.mesh.tets()[cell].map(|n| input.eye_nodes[n as usize]);
+    let corners = input.mesh.gather(cell, input.eye_nodes);
     face_sign(&corners, f, input.perspective)
 }
 
@@ -54,9 +54,9 @@ fn face_sign(p: &[[f64; 3]; 4], f: usize, perspective: bool) -> i8 {
 
 /// Per cell, packed in one byte so that the sort touches one array: bits 0–3 the faces whose
 /// neighbour is in front, bits 4–6 the number of neighbours behind it not yet placed, bit 7
-/// whether it is placed.
+/// whether it has been queued.
 const BEHIND: u8 = 1 << 4;
-const PLACED: u8 = 1 << 7;
+const QUEUED: u8 = 1 << 7;
 
 #[inline]
 fn behind_count(state: u8) -> u8 {
@@ -66,18 +66,12 @@ fn behind_count(state: u8) -> u8 {
 /// The relation for every cell, in parallel. Both cells of a face evaluate the same exact
 /// predicate (with the face's nodes in opposite orders), so they always agree.
 fn relation(input: &SortInput) -> Vec<u8> {
-    let (nbs, tets, eye) = (input.mesh.neighbors(), input.mesh.tets(), input.eye_nodes);
+    let nbs = input.mesh.neighbors();
     (0..input.mesh.tet_count())
         .into_par_iter()
         .with_min_len(4096)
         .map(|cell| {
-            let t = tets[cell];
-            let p = [
-                eye[t[0] as usize],
-                eye[t[1] as usize],
-                eye[t[2] as usize],
-                eye[t[3] as usize],
-            ];
+            let p = input.mesh.gather(cell, input.eye_nodes);
             let mut state = 0u8;
             for f in 0..4 {
                 if nbs[cell][f] == NO_NEIGHBOR {
@@ -110,6 +104,38 @@ fn depth(input: &SortInput, cell: usize) -> f64 {
     }
 }
 
+/// A queue of cells that are ready to be placed: FIFO for MPVO, farthest-first for MPVONC.
+trait Ready {
+    fn push(&mut self, cell: u32, input: &SortInput);
+    fn pop(&mut self) -> Option<u32>;
+    /// Whether the queue keeps every cell it ever held, in the order they were popped (a
+    /// FIFO's own contents are the order): then the sort need not record it.
+    const KEEPS_ORDER: bool;
+    /// That order, for a queue that keeps it.
+    fn into_order(self) -> Vec<u32>;
+}
+
+/// First in, first out.
+struct Fifo {
+    cells: Vec<u32>,
+    next: usize,
+}
+
+impl Ready for Fifo {
+    const KEEPS_ORDER: bool = true;
+    fn push(&mut self, cell: u32, _: &SortInput) {
+        self.cells.push(cell);
+    }
+    fn pop(&mut self) -> Option<u32> {
+        let c = self.cells.get(self.next).copied();
+        self.next += usize::from(c.is_some());
+        c
+    }
+    fn into_order(self) -> Vec<u32> {
+        self.cells
+    }
+}
+
 /// Max-heap on (depth, −index): the farthest ready cell first, ties by index.
 #[derive(PartialEq)]
 struct Far(f64, u32);
@@ -125,52 +151,46 @@ impl Ord for Far {
     }
 }
 
-/// The cells still waiting when the ready cells have run out (a visibility cycle): the
-/// farthest one is released.
-fn farthest_waiting(input: &SortInput, state: &[u8]) -> Option<usize> {
-    (0..state.len())
-        .filter(|&c| state[c] & PLACED == 0)
-        .max_by(|&a, &b| depth(input, a).total_cmp(&depth(input, b)).then(b.cmp(&a)))
-}
-
-/// Places `c` after the cells behind it and returns the neighbours in front of it that have
-/// now become ready.
-#[inline]
-fn place(c: usize, state: &mut [u8], nbs: &[[u32; 4]], mut ready: impl FnMut(u32)) {
-    state[c] |= PLACED;
-    let front = state[c] & 0xF;
-    for f in 0..4 {
-        if front & (1 << f) != 0 {
-            let m = nbs[c][f] as usize;
-            if behind_count(state[m]) > 0 {
-                state[m] -= BEHIND;
-            }
-            if behind_count(state[m]) == 0 && state[m] & PLACED == 0 {
-                ready(m as u32);
-            }
-        }
+impl Ready for BinaryHeap<Far> {
+    const KEEPS_ORDER: bool = false;
+    fn push(&mut self, cell: u32, input: &SortInput) {
+        BinaryHeap::push(self, Far(depth(input, cell as usize), cell));
+    }
+    fn pop(&mut self) -> Option<u32> {
+        BinaryHeap::pop(self).map(|f| f.1)
+    }
+    fn into_order(self) -> Vec<u32> {
+        unreachable!("a heap does not keep the order")
     }
 }
 
-/// MPVO: Kahn's algorithm with a FIFO queue — the output itself, read as it grows.
-fn mpvo(input: &SortInput) -> Order {
+/// Kahn's algorithm over the relation. A cell is queued once: when its last neighbour behind
+/// it has been placed, or — when the queue runs dry with cells left, a visibility cycle — as
+/// the farthest cell still waiting, which is counted.
+fn topological<Q: Ready>(input: &SortInput, mut ready: Q) -> Order {
     let n = input.mesh.tet_count();
     let nbs = input.mesh.neighbors();
     let mut state = relation(input);
-    let mut order: Vec<u32> = Vec::with_capacity(n);
-    // Queued cells are marked placed when queued, so each enters the order once.
+    let enqueue = |c: usize, state: &mut [u8], ready: &mut Q| {
+        state[c] |= QUEUED;
+        ready.push(c as u32, input);
+    };
     for c in 0..n {
         if behind_count(state[c]) == 0 {
-            state[c] |= PLACED;
-            order.push(c as u32);
+            enqueue(c, &mut state, &mut ready);
         }
     }
+    // A FIFO holds the order itself; a heap's pops are recorded.
+    let mut order = Vec::with_capacity(if Q::KEEPS_ORDER { 0 } else { n });
+    let mut placed = 0;
     let mut cycle_cells = 0;
-    let mut next = 0;
     loop {
-        while next < order.len() {
-            let c = order[next] as usize;
-            next += 1;
+        while let Some(c) = ready.pop() {
+            let c = c as usize;
+            placed += 1;
+            if !Q::KEEPS_ORDER {
+                order.push(c as u32);
+            }
             let front = state[c] & 0xF;
             for f in 0..4 {
                 if front & (1 << f) != 0 {
@@ -178,67 +198,41 @@ fn mpvo(input: &SortInput) -> Order {
                     if behind_count(state[m]) > 0 {
                         state[m] -= BEHIND;
                     }
-                    if behind_count(state[m]) == 0 && state[m] & PLACED == 0 {
-                        state[m] |= PLACED;
-                        order.push(m as u32);
+                    if behind_count(state[m]) == 0 && state[m] & QUEUED == 0 {
+                        enqueue(m, &mut state, &mut ready);
                     }
                 }
             }
         }
-        if order.len() == n {
+        if placed == n {
             break;
         }
-        let Some(c) = farthest_waiting(input, &state) else {
+        let Some(c) = (0..n)
+            .filter(|&c| state[c] & QUEUED == 0)
+            .max_by(|&a, &b| depth(input, a).total_cmp(&depth(input, b)).then(b.cmp(&a)))
+        else {
             break;
         };
         cycle_cells += 1;
-        state[c] |= PLACED;
-        order.push(c as u32);
+        enqueue(c, &mut state, &mut ready);
     }
     Order {
-        back_to_front: order,
+        back_to_front: if Q::KEEPS_ORDER {
+            ready.into_order()
+        } else {
+            order
+        },
         cycle_cells,
     }
 }
 
-/// MPVONC: Kahn's algorithm with the farthest ready cell first.
+fn mpvo(input: &SortInput) -> Order {
+    let cells = Vec::with_capacity(input.mesh.tet_count());
+    topological(input, Fifo { cells, next: 0 })
+}
+
 fn mpvonc(input: &SortInput) -> Order {
-    let n = input.mesh.tet_count();
-    let nbs = input.mesh.neighbors();
-    let mut state = relation(input);
-    let mut ready: BinaryHeap<Far> = BinaryHeap::with_capacity(1024);
-    for c in 0..n {
-        if behind_count(state[c]) == 0 {
-            ready.push(Far(depth(input, c), c as u32));
-        }
-    }
-    let mut order = Vec::with_capacity(n);
-    let mut cycle_cells = 0;
-    loop {
-        while let Some(Far(_, c)) = ready.pop() {
-            let c = c as usize;
-            if state[c] & PLACED != 0 {
-                continue;
-            }
-            order.push(c as u32);
-            place(c, &mut state, nbs, |m| {
-                ready.push(Far(depth(input, m as usize), m))
-            });
-        }
-        if order.len() == n {
-            break;
-        }
-        let Some(c) = farthest_waiting(input, &state) else {
-            break;
-        };
-        cycle_cells += 1;
-        state[c] &= !(7 << 4);
-        ready.push(Far(depth(input, c), c as u32));
-    }
-    Order {
-        back_to_front: order,
-        cycle_cells,
-    }
+    topological(input, BinaryHeap::with_capacity(1024))
 }
 
 #[cfg(test)]

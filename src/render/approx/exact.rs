@@ -12,7 +12,7 @@
 //! the result (to 1e-9); `step > 0` adds uniform sub-steps on top.
 
 use super::{Approx, Method, MethodInfo, Pixel, Scratch, accumulate, non_negative, rule};
-use crate::integrate::{Contribution, RuleInfo, Segment, linear};
+use crate::integrate::{Contribution, RuleInfo, Segment};
 use crate::mapping::{Lines, Shape, Transfer1D};
 use crate::render::cell::EyeCell;
 use crate::render::footprint::Footprint;
@@ -152,7 +152,7 @@ impl Exact {
             ds: (u1 - u0) * length,
             eta_mid,
         };
-        (self.rule.rule)(&seg)
+        self.rule.apply(&seg)
     }
 }
 
@@ -162,9 +162,8 @@ impl Exact {
     /// crossing directly, and each piece between them is one call of the rule with η and χ
     /// from one piece of the table. Same pieces and values as the general path below.
     #[inline]
-    fn transfer_pixel<R: Fn(&Segment) -> Contribution>(
+    fn transfer_pixel(
         &self,
-        rule: R,
         t: &Transfer1D,
         v: &[f64; 4],
         px: &Pixel,
@@ -189,7 +188,7 @@ impl Exact {
                     ds,
                     eta_mid: None,
                 };
-                accumulate(&mut acc, rule(&seg));
+                accumulate(&mut acc, self.rule.apply(&seg));
                 far = near;
             }
             return acc;
@@ -210,7 +209,7 @@ impl Exact {
                     None
                 },
             };
-            rule(&seg)
+            self.rule.apply(&seg)
         };
         let piece = |u0: f64, u1: f64| segment(u0, u1, t.piece(0.5 * (at(u0) + at(u1))));
         // The common case: both ends in the same piece of the table, no sub-steps.
@@ -260,12 +259,7 @@ impl Approx for Exact {
         s: &mut Scratch,
     ) -> ([f64; 3], f64) {
         if let Some(t) = &f.transfer {
-            // The closed-form rule called directly, so that it is inlined here.
-            let acc = if self.rule.name == linear::INFO.name {
-                self.transfer_pixel(linear::rule, t, v, px, s)
-            } else {
-                self.transfer_pixel(self.rule.rule, t, v, px, s)
-            };
+            let acc = self.transfer_pixel(t, v, px, s);
             let k = self.brightness;
             return ([acc.0[0] * k, acc.0[1] * k, acc.0[2] * k], acc.1);
         }
@@ -306,7 +300,7 @@ impl Approx for Exact {
                     ds,
                     eta_mid: None,
                 };
-                accumulate(&mut acc, (self.rule.rule)(&seg));
+                accumulate(&mut acc, self.rule.apply(&seg));
             }
         }
         (acc.0.map(|b| b * self.brightness), acc.1)

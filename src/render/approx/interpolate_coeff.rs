@@ -3,7 +3,7 @@
 //! mapped once at the cell's four nodes (the mapping is not applied per pixel).
 
 use super::{Approx, Method, MethodInfo, Pixel, Scratch, non_negative, rule};
-use crate::integrate::{RuleInfo, Segment, linear};
+use crate::integrate::{RuleInfo, Segment};
 use crate::render::cell::EyeCell;
 use crate::render::footprint::Footprint;
 use crate::render::frame::Frame;
@@ -84,12 +84,7 @@ impl Approx for InterpolateCoeff {
             ds: (px.far - px.near) * px.speed,
             eta_mid: None,
         };
-        // The closed-form rule called directly, so that it is inlined here.
-        let (b, theta) = if self.rule.name == linear::INFO.name {
-            linear::rule(&seg)
-        } else {
-            (self.rule.rule)(&seg)
-        };
+        let (b, theta) = self.rule.apply(&seg);
         let k = self.brightness;
         ([b[0] * k, b[1] * k, b[2] * k], theta)
     }

@@ -32,6 +32,13 @@ pub struct Pixel {
     /// and the pixel's screen-space barycentric weights in it (for Gouraud interpolation).
     pub corners: [u8; 3],
     pub weights: [f64; 3],
+    /// The pixel's index in the tile (for [`Scratch::faces`]).
+    pub slot: usize,
+    /// Depths closer than this are the same point up to rounding (the cell's [`TOUCH`]
+    /// threshold).
+    ///
+    /// [`TOUCH`]: crate::render::TOUCH
+    pub touch: f64,
 }
 
 /// Per-tile scratch space, so the pixel loop never allocates.
@@ -41,6 +48,9 @@ pub struct Scratch {
     pub values2: Vec<f64>,
     pub ends: Vec<([f64; 3], f64)>,
     pub cuts: Vec<f64>,
+    /// Per pixel of the tile, for methods with [`Approx::FACES`]: the entry and exit depth of
+    /// the last cell the pixel's ray passed (NaN before the first).
+    pub faces: Vec<[f64; 2]>,
 }
 
 /// An approximation method: per-cell preparation and per-pixel contribution `(b, θ)`, with the
@@ -50,6 +60,8 @@ pub trait Approx: Sync {
     /// A method whose pixels, where nothing clips the cell, follow from the screen-space
     /// weights alone ([`Approx::screen_pixel`]): the ray interval is then not computed.
     const SCREEN_SPACE: bool = false;
+    /// A method that keeps [`Scratch::faces`] per pixel.
+    const FACES: bool = false;
     /// Whether the ray is clipped to the camera's depth range (`test` is not).
     fn clips(&self) -> bool {
         true

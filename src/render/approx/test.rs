@@ -1,7 +1,10 @@
 //! `test <opacity>` (thesis 6.3.1 „Test-Methode“): geometry only. Every cell face is a
 //! semi-transparent red surface of the given opacity; no depth clipping. Each face is drawn
-//! once per ray: a cell draws the face the ray enters through, and the face it leaves through
-//! only if that is a boundary face (an interior face is the entry face of the cell behind it).
+//! once per ray: a cell draws the faces the ray enters and leaves it through, except a face at
+//! the depth where the previous cell of this pixel (in compositing order, which is the order
+//! along the ray) left or entered — that is the same surface. Deciding by depth rather than by
+//! which faces are shared also gets a ray right that leaves the mesh exactly through an edge or
+//! node, where the cell beyond the exit face is only touched and draws nothing.
 
 use super::{Approx, Method, MethodInfo, Pixel, Scratch};
 use crate::render::cell::EyeCell;
@@ -31,6 +34,7 @@ const RED: [f64; 3] = [1.0, 0.0, 0.0];
 
 impl Approx for Test {
     type Cell = ();
+    const FACES: bool = true;
 
     fn clips(&self) -> bool {
         false
@@ -38,30 +42,28 @@ impl Approx for Test {
 
     fn prepare(&self, _: &Frame, _: usize, _: &EyeCell, _: &Footprint, _: &mut Scratch) {}
 
-    fn pixel(
-        &self,
-        f: &Frame,
-        cell: usize,
-        _: &(),
-        px: &Pixel,
-        _: &mut Scratch,
-    ) -> ([f64; 3], f64) {
+    fn pixel(&self, _: &Frame, _: usize, _: &(), px: &Pixel, s: &mut Scratch) -> ([f64; 3], f64) {
         let a = self.opacity;
+        let previous = s.faces[px.slot];
+        let seen = |depth: f64| previous.iter().any(|&d| (d - depth).abs() <= px.touch);
         let mut acc = ([0.0; 3], 1.0);
-        let surface = |acc: &mut ([f64; 3], f64)| {
+        let mut surface = |depth: f64| {
+            if seen(depth) {
+                return;
+            }
             for c in 0..3 {
                 acc.0[c] = acc.0[c] * (1.0 - a) + a * RED[c];
             }
             acc.1 *= 1.0 - a;
         };
-        // The exit face, if it is on the boundary and not hidden behind a line.
-        let boundary_exit = f.vol.mesh.neighbor(cell, px.iv.exit_face).is_none();
-        if boundary_exit && px.far >= px.iv.far {
-            surface(&mut acc);
+        // Far to near: the exit face unless a line hides it, then the entry face.
+        if px.far >= px.iv.far {
+            surface(px.iv.far);
         }
         if px.near <= px.iv.near {
-            surface(&mut acc);
+            surface(px.iv.near);
         }
+        s.faces[px.slot] = [px.iv.near, px.iv.far];
         acc
     }
 }
