@@ -179,10 +179,13 @@ fn sort(bencher: divan::Bencher, cells: usize) {
         .after(&v.model(bbox.center()).expect("model"));
     let eye_nodes: Vec<[f64; 3]> = mesh.nodes().iter().map(|&p| to_eye.apply(p)).collect();
     let sorter = sort::choose(mesh.is_convex());
+    let screen: Vec<[f64; 2]> = eye_nodes.iter().map(|p| [p[0], -p[1]]).collect();
     let input = SortInput {
         mesh,
         eye_nodes: &eye_nodes,
+        screen: &screen,
         perspective: false,
+        mirrored: false,
     };
     bencher.bench(|| (sorter.sort)(&input));
 }

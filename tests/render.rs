@@ -530,10 +530,22 @@ fn mpvo_orders_random_meshes_along_every_ray() {
                 [q[0], q[1], q[2] - if perspective { 3.0 } else { 0.0 }]
             })
             .collect();
+        let screen: Vec<[f64; 2]> = eye_nodes
+            .iter()
+            .map(|p| {
+                if perspective {
+                    [p[0] / -p[2], -p[1] / -p[2]]
+                } else {
+                    [p[0], -p[1]]
+                }
+            })
+            .collect();
         let order = (sort::choose(true).sort)(&SortInput {
             mesh: &mesh,
             eye_nodes: &eye_nodes,
+            screen: &screen,
             perspective,
+            mirrored: false,
         });
         assert_eq!(order.cycle_cells, 0);
         let mut pos = vec![0; mesh.tet_count()];

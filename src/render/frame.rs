@@ -26,6 +26,8 @@ pub struct Frame<'a> {
     pub background: Backdrop,
     /// Depth of the nearest grid line per pixel (∞ where none); `None` when no line is drawn.
     pub line_depth: Option<Vec<f64>>,
+    /// Which screen orientation makes a face an entry face ([`super::faces::entry_sign`]).
+    pub entry_sign: i8,
 }
 
 impl Frame<'_> {

@@ -18,12 +18,14 @@
 
 pub mod approx;
 pub mod cell;
+pub mod faces;
 pub mod footprint;
 pub mod frame;
 pub mod gouraud;
 pub mod lines;
 pub mod project;
 pub mod raster;
+pub mod runs;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
@@ -34,15 +36,18 @@ pub use approx::{METHODS, Method};
 pub use lines::LineDraw;
 
 use approx::{Approx, Pixel, Scratch};
-use cell::{CellRays, EyeCell};
+use cell::{CellRays, EyeCell, Interval};
+use faces::CellFaces;
 use footprint::footprint;
 use frame::{Backdrop, Frame};
 use gouraud::Fan;
 use raster::{Rect, rasterize, rasterize_convex};
+use runs::Runs;
 
 use crate::error::Error;
 use crate::framebuffer::{Background, Framebuffer};
 use crate::mapping::Mapping;
+use crate::mesh::NO_NEIGHBOR;
 use crate::scene::{Projector, View};
 use crate::sort::{self, SortInput};
 use crate::volume::Volume;
@@ -108,8 +113,12 @@ pub struct Stats {
     /// The visibility sort used and whether the mesh is convex.
     pub sort: &'static str,
     pub convex: bool,
-    /// Cells that had to be released from a visibility cycle (0: the order is exact).
+    /// Cells that had to be released from a visibility cycle (0: the sort's order is exact).
     pub cycle_cells: usize,
+    /// The order was settled per pixel (non-convex mesh or broken cycle; see [`runs`]).
+    pub per_pixel: bool,
+    /// The most runs (separate stretches of mesh along one ray) a pixel held.
+    pub most_runs: usize,
     pub timing: Timing,
 }
 
@@ -161,6 +170,8 @@ pub fn render(
         )
     })?;
     let to_eye = view.view_matrix().after(&model);
+    // A mirror turns every orientation around; accounted for once, here.
+    let mirrored = to_eye.determinant() < 0.0;
     let projector = Projector::new(view.camera.as_ref(), bbox.size(), width, height)?;
     let eye_nodes: Vec<[f64; 3]> = mesh.nodes().par_iter().map(|&p| to_eye.apply(p)).collect();
     let screen: Vec<[f64; 2]> = eye_nodes.par_iter().map(|&p| projector.screen(p)).collect();
@@ -173,9 +184,14 @@ pub fn render(
     let input = SortInput {
         mesh,
         eye_nodes: &eye_nodes,
+        screen: &screen,
         perspective: projector.is_perspective(),
+        mirrored,
     };
     let order = (sorter.sort)(&input);
+    // MPVO's order is exact for a convex mesh without cycles; anything else is settled per
+    // pixel.
+    let per_pixel = !convex || order.cycle_cells > 0;
     let mut cells = order.back_to_front;
     if settings.order == Order::FrontToBack {
         cells.reverse();
@@ -201,6 +217,7 @@ pub fn render(
         screen,
         background,
         line_depth,
+        entry_sign: faces::entry_sign(mirrored),
     };
 
     // Bin the ordered cells into tiles (CSR: tile → cells in order).
@@ -246,7 +263,7 @@ pub fn render(
     // Tiles with the most cells first, so that no long tile is left for the end.
     let mut schedule: Vec<usize> = (0..total).collect();
     schedule.sort_by_key(|&t| std::cmp::Reverse(start[t + 1] - start[t]));
-    let tiles: Vec<(usize, Vec<[f32; 4]>, u64)> = schedule
+    let tiles: Vec<(usize, Vec<[f32; 4]>, u64, usize)> = schedule
         .into_par_iter()
         .with_max_len(1)
         .map(|t| {
@@ -257,24 +274,27 @@ pub fn render(
                 y1: ((t / tx + 1) * tile).min(height),
             };
             let list = &binned[start[t] as usize..start[t + 1] as usize];
-            let (out, fragments) = match &settings.method {
-                Method::Exact(m) => render_tile(&frame, m, settings.order, rect, list),
-                Method::InterpolateCoeff(m) => render_tile(&frame, m, settings.order, rect, list),
-                Method::InterpolateColor(m) => render_tile(&frame, m, settings.order, rect, list),
-                Method::Test(m) => render_tile(&frame, m, settings.order, rect, list),
+            let (o, pp) = (settings.order, per_pixel);
+            let (out, fragments, most) = match &settings.method {
+                Method::Exact(m) => render_tile(&frame, m, o, pp, rect, list),
+                Method::InterpolateCoeff(m) => render_tile(&frame, m, o, pp, rect, list),
+                Method::InterpolateColor(m) => render_tile(&frame, m, o, pp, rect, list),
+                Method::Test(m) => render_tile(&frame, m, o, pp, rect, list),
             };
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             if let Some(p) = progress {
                 p(n, total);
             }
-            (t, out, fragments)
+            (t, out, fragments, most)
         })
         .collect();
 
     let mut fb = Framebuffer::new(width, height);
     let mut fragments = 0;
-    for (t, pixels, n) in &tiles {
+    let mut most_runs = 0;
+    for (t, pixels, n, most) in &tiles {
         fragments += n;
+        most_runs = most_runs.max(*most);
         let (x0, y0) = ((t % tx) * tile, (t / tx) * tile);
         let w = (x0 + tile).min(width) - x0;
         for (row, chunk) in pixels.chunks(w).enumerate() {
@@ -292,6 +312,8 @@ pub fn render(
             sort: sorter.name,
             convex,
             cycle_cells: order.cycle_cells,
+            per_pixel,
+            most_runs,
             timing: Timing {
                 setup,
                 sort: sort_time,
@@ -360,15 +382,23 @@ fn composite(order: Order, a: &mut ([f64; 3], f64), (b, theta): ([f64; 3], f64))
     a.1 *= theta;
 }
 
+/// How a tile keeps its pixels: composited straight in the sort's order (exact for MPVO on a
+/// convex mesh), or in per-pixel runs settled by depth ([`runs`]).
+enum Pixels {
+    Direct(Vec<([f64; 3], f64)>),
+    Runs(Runs),
+}
+
 /// Renders the cells `list` (in compositing order) into one tile; also returns the number of
-/// pixel–cell pairs integrated.
+/// pixel–cell pairs integrated and the most runs one pixel held.
 fn render_tile<A: Approx>(
     f: &Frame,
     method: &A,
     order: Order,
+    per_pixel: bool,
     rect: Rect,
     list: &[u32],
-) -> (Vec<[f32; 4]>, u64) {
+) -> (Vec<[f32; 4]>, u64, usize) {
     let tw = rect.x1 - rect.x0;
     let n = tw * (rect.y1 - rect.y0);
     let (dmin, dmax) = f.projector.depth();
@@ -390,66 +420,110 @@ fn render_tile<A: Approx>(
         }
     }
     // Per pixel: intensity (back to front) or accumulated colour (front to back), and the
-    // volume's transparency.
-    let mut acc: Vec<([f64; 3], f64)> = Vec::with_capacity(n);
-    for y in rect.y0..rect.y1 {
-        for x in rect.x0..rect.x1 {
-            let c = if order == Order::BackToFront {
-                i0(x, y)
-            } else {
-                [0.0; 3]
-            };
-            acc.push((c, 1.0));
+    // volume's transparency; or the pixel's runs.
+    let mut pixels = if per_pixel {
+        Pixels::Runs(Runs::new(n))
+    } else {
+        let mut acc: Vec<([f64; 3], f64)> = Vec::with_capacity(n);
+        for y in rect.y0..rect.y1 {
+            for x in rect.x0..rect.x1 {
+                let c = if order == Order::BackToFront {
+                    i0(x, y)
+                } else {
+                    [0.0; 3]
+                };
+                acc.push((c, 1.0));
+            }
         }
-    }
+        Pixels::Direct(acc)
+    };
     let mut scratch = Scratch::default();
     if A::FACES {
         scratch.faces = vec![[f64::NAN; 2]; n];
     }
     let mut fragments = 0u64;
     let tets = f.vol.mesh.tets();
+    let neighbors = f.vol.mesh.neighbors();
+    let perspective = f.projector.is_perspective();
     for &cell in list {
         let cell = cell as usize;
         let eye = f.eye_corners(cell);
         let Some(ec) = EyeCell::new(&eye) else {
             continue;
         };
-        let Some(fp) = footprint(tets[cell], &eye, &f.screen_corners(cell), &f.projector) else {
+        let screen = f.screen_corners(cell);
+        let Some(fp) = footprint(tets[cell], &eye, &screen, &f.projector) else {
             continue;
         };
+        let depth = eye.map(|p| -p[2]);
         // Along every ray τ is the depth, so the cell's depth range bounds every interval:
         // inside the camera's range and before every line, no pixel needs clipping.
-        let (lo, hi) = eye
+        let (lo, hi) = depth
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
-                (lo.min(-p[2]), hi.max(-p[2]))
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &d| {
+                (lo.min(d), hi.max(d))
             });
-        // A ray through an edge or a node of the cell, exactly on a pixel centre, only touches
-        // it: its interval is of rounding size and is skipped (so `test` draws no faces there).
-        // Depths that close are also the same point for `test`'s shared faces.
+        // Depths closer than this are the same point for `test`'s shared faces.
         let touch = TOUCH * (hi - lo);
         let camera_clips = method.clips() && (lo < dmin || hi > dmax);
         let line_clips = hi > nearest_line;
         let unclipped = !camera_clips && !line_clips;
-        let composite = |a: &mut ([f64; 3], f64), piece| composite(order, a, piece);
+        // A whole projection: every pixel's interval from the faces (watertight); a cell
+        // reaching in front of a perspective near plane keeps the per-cell clip.
+        let faces = fp
+            .projection
+            .is_some()
+            .then(|| CellFaces::new(tets[cell], &screen, &depth, f.entry_sign, perspective));
+        let nb = &neighbors[cell];
+        let link = |iv: &Interval| runs::Link {
+            cell: cell as u32,
+            entry_neighbor: if faces.is_none() && iv.near <= dmin {
+                NO_NEIGHBOR
+            } else {
+                nb[iv.entry_face]
+            },
+            exit_neighbor: nb[iv.exit_face],
+            near: iv.near,
+            far: iv.far,
+        };
         let hull = fp.hull();
         let mut prepared: Option<A::Cell> = None;
         // Screen-space methods on unclipped cells: Gouraud shading over the outline.
         if A::SCREEN_SPACE && unclipped {
-            if let Some((v, n)) = hull {
+            if let Some((v, count)) = hull {
                 let c = method.prepare(f, cell, &ec, &fp, &mut scratch);
                 if let Some(fan) = method
                     .fan_values(&c)
                     .and_then(|values| Fan::new(&fp, &values))
                 {
-                    rasterize_convex(&v[..n], rect, |x, y| {
-                        let a = &mut acc[(y - rect.y0) * tw + (x - rect.x0)];
-                        if order == Order::FrontToBack && a.1 < EARLY_TERMINATION {
-                            return;
+                    rasterize_convex(&v[..count], rect, |x, y| {
+                        let slot = (y - rect.y0) * tw + (x - rect.x0);
+                        let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+                        let piece = || method.screen_pixel(fan.at(px, py));
+                        match &mut pixels {
+                            Pixels::Direct(acc) => {
+                                let a = &mut acc[slot];
+                                if order == Order::FrontToBack && a.1 < EARLY_TERMINATION {
+                                    return;
+                                }
+                                fragments += 1;
+                                composite(order, a, piece());
+                            }
+                            Pixels::Runs(runs) => {
+                                let Some(h) = faces.as_ref().and_then(|c| c.hit(px, py)) else {
+                                    return;
+                                };
+                                fragments += 1;
+                                let l = runs::Link {
+                                    cell: cell as u32,
+                                    entry_neighbor: nb[h.entry_face],
+                                    exit_neighbor: nb[h.exit_face],
+                                    near: h.near,
+                                    far: h.far,
+                                };
+                                runs.add(slot, l, piece());
+                            }
                         }
-                        fragments += 1;
-                        let values = fan.at(x as f64 + 0.5, y as f64 + 0.5);
-                        composite(a, method.screen_pixel(values));
                     });
                     continue;
                 }
@@ -463,15 +537,36 @@ fn render_tile<A: Approx>(
         for k in 0..parts {
             let corners = fp.corners[k];
             let mut draw = |x: usize, y: usize, weights: [f64; 3]| {
-                let a = &mut acc[(y - rect.y0) * tw + (x - rect.x0)];
-                if order == Order::FrontToBack && a.1 < EARLY_TERMINATION {
-                    return;
+                let slot = (y - rect.y0) * tw + (x - rect.x0);
+                if let Pixels::Direct(acc) = &pixels {
+                    if order == Order::FrontToBack && acc[slot].1 < EARLY_TERMINATION {
+                        return;
+                    }
                 }
-                let Some(iv) = rays
-                    .interval(x as f64 + 0.5, y as f64 + 0.5)
-                    .filter(|iv| iv.far - iv.near > touch)
-                else {
-                    return;
+                let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+                let iv = match &faces {
+                    Some(cf) => {
+                        let Some(h) = cf.hit(px, py) else {
+                            return;
+                        };
+                        let (a, b) = rays.line(px, py);
+                        Interval {
+                            near: h.near,
+                            // Rounding can put a face crossing ~1e-16 past the other one.
+                            far: h.far.max(h.near),
+                            entry_face: h.entry_face,
+                            exit_face: h.exit_face,
+                            a,
+                            b,
+                        }
+                    }
+                    None => {
+                        let Some(iv) = rays.interval(px, py).filter(|iv| iv.far - iv.near > touch)
+                        else {
+                            return;
+                        };
+                        iv
+                    }
                 };
                 let (mut near, mut far) = (iv.near, iv.far);
                 if camera_clips {
@@ -481,16 +576,22 @@ fn render_tile<A: Approx>(
                 if line_clips {
                     far = far.min(f.line_at(x, y));
                 }
-                if near >= far {
+                let clipped_away = near >= far;
+                if clipped_away {
+                    // Nothing to integrate; a run still passes through the cell.
+                    if let Pixels::Runs(runs) = &mut pixels {
+                        runs.add(slot, link(&iv), ([0.0; 3], 1.0));
+                    }
                     return;
                 }
                 let c =
                     prepared.get_or_insert_with(|| method.prepare(f, cell, &ec, &fp, &mut scratch));
-                let slot = (y - rect.y0) * tw + (x - rect.x0);
                 let speed = match f.projector {
                     Projector::Ortho { .. } => 1.0,
                     Projector::Persp { .. } => f.projector.ray(x, y).speed(),
                 };
+                let entry_on = faces.as_ref().is_some_and(|cf| cf.edge_on(iv.entry_face));
+                let exit_on = faces.as_ref().is_some_and(|cf| cf.edge_on(iv.exit_face));
                 let px = Pixel {
                     speed,
                     iv,
@@ -500,12 +601,17 @@ fn render_tile<A: Approx>(
                     weights,
                     slot,
                     touch,
+                    edge_on: [entry_on, exit_on],
                 };
                 fragments += 1;
-                composite(a, method.pixel(f, cell, c, &px, &mut scratch));
+                let piece = method.pixel(f, cell, c, &px, &mut scratch);
+                match &mut pixels {
+                    Pixels::Direct(acc) => composite(order, &mut acc[slot], piece),
+                    Pixels::Runs(runs) => runs.add(slot, link(&iv), piece),
+                }
             };
-            if let Some((v, n)) = hull {
-                rasterize_convex(&v[..n], rect, |x, y| draw(x, y, [0.0; 3]));
+            if let Some((v, count)) = hull {
+                rasterize_convex(&v[..count], rect, |x, y| draw(x, y, [0.0; 3]));
             } else if A::SCREEN_SPACE {
                 rasterize::<true>(&fp.tris[k], rect, draw);
             } else {
@@ -515,20 +621,27 @@ fn render_tile<A: Approx>(
     }
     let mut out = Vec::with_capacity(n);
     let mut k = 0;
+    let most = match &pixels {
+        Pixels::Runs(r) => r.most,
+        Pixels::Direct(_) => 1,
+    };
     for y in rect.y0..rect.y1 {
         for x in rect.x0..rect.x1 {
-            let (c, t) = acc[k];
-            k += 1;
-            let rgb = match order {
-                Order::BackToFront => c,
-                Order::FrontToBack => {
-                    let bg = i0(x, y);
-                    [0, 1, 2].map(|ch| c[ch] + t * bg[ch])
+            let bg = i0(x, y);
+            let (rgb, t) = match &mut pixels {
+                Pixels::Runs(runs) => runs.resolve(k, bg),
+                Pixels::Direct(acc) => {
+                    let (c, t) = acc[k];
+                    match order {
+                        Order::BackToFront => (c, t),
+                        Order::FrontToBack => ([0, 1, 2].map(|ch| c[ch] + t * bg[ch]), t),
+                    }
                 }
             };
+            k += 1;
             let alpha = if has_line(x, y) { 1.0 } else { 1.0 - t };
             out.push([rgb[0] as f32, rgb[1] as f32, rgb[2] as f32, alpha as f32]);
         }
     }
-    (out, fragments)
+    (out, fragments, most)
 }

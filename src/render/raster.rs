@@ -9,6 +9,8 @@
 
 use robust::{Coord, orient2d};
 
+use super::faces::inside as exact_inside;
+
 /// A triangle on screen.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ScreenTriangle {
@@ -155,7 +157,8 @@ pub fn rasterize_convex(poly: &[[f64; 2]], rect: Rect, f: impl FnMut(usize, usiz
 /// A positively oriented convex polygon prepared for scan conversion, clipped to a rectangle.
 struct Convex<const N: usize> {
     edges: [Edge; N],
-    owns: [bool; N],
+    /// The edges' end points `v[k] → v[k+1]`, for the exact inside test.
+    ends: [[[f64; 2]; 2]; N],
     /// 1/d.y per edge, for the root estimate (∞ for a horizontal edge).
     inv_dy: [f64; N],
     x0: usize,
@@ -183,19 +186,14 @@ impl<const N: usize> Convex<N> {
         if x0 >= x1 || y0 >= y1 {
             return None;
         }
-        // Top-left ownership of each edge k: v[k] → v[k+1]. With positive orientation and y
-        // pointing down, a top edge runs towards +x and a left edge towards −y. An edge shared
-        // with another polygon runs the other way there, so exactly one of the two owns it.
-        let owns = std::array::from_fn(|k| {
-            let (a, b) = (v[k], v[(k + 1) % N]);
-            let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
-            dy < 0.0 || (dy == 0.0 && dx > 0.0)
-        });
+        // Top-left ownership of each edge k: v[k] → v[k+1] ([`owns`]). An edge shared with
+        // another polygon runs the other way there, so exactly one of the two owns it.
+        let ends = std::array::from_fn(|k| [v[k], v[(k + 1) % N]]);
         let edges: [Edge; N] = std::array::from_fn(|k| Edge::new(v[k], v[(k + 1) % N]));
         let inv_dy = std::array::from_fn(|k| 1.0 / edges[k].d[1]);
         Some(Convex {
             edges,
-            owns,
+            ends,
             inv_dy,
             x0,
             x1,
@@ -212,19 +210,20 @@ impl<const N: usize> Convex<N> {
     /// the exact test of that edge alone — usually two evaluations.
     #[inline]
     fn scan(&self, mut f: impl FnMut(usize, usize, &[f64; N])) {
-        // Without short-circuits: no branch to mispredict.
-        let inside = |e: f64, owned: bool| (e > 0.0) | ((e == 0.0) & owned);
         let (x0, x1) = (self.x0, self.x1);
         for y in self.y0..self.y1 {
             let py = y as f64 + 0.5;
             let rows: [f64; N] = std::array::from_fn(|k| self.edges[k].row(py));
             let (mut from, mut to) = (x0, x1);
             for k in 0..N {
-                let (e, owns) = (&self.edges[k], self.owns[k]);
-                let test = |x: usize| inside(e.at_row(rows[k], x as f64 + 0.5), owns);
+                let e = &self.edges[k];
+                // The exact predicate decides (faces.rs): the same answer for every polygon
+                // with this edge, whatever rounding did to the edge function.
+                let [u, v] = self.ends[k];
+                let test = |x: usize| exact_inside(u, v, [x as f64 + 0.5, py]);
                 let slope = -e.sign * e.d[1];
                 if slope == 0.0 {
-                    if !inside(e.sign * rows[k], owns) {
+                    if !test(x0) {
                         to = from;
                     }
                     continue;

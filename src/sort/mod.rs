@@ -18,8 +18,15 @@ pub struct SortInput<'a> {
     pub mesh: &'a TetMesh,
     /// Node positions in eye space (the camera looks along −z).
     pub eye_nodes: &'a [[f64; 3]],
+    /// Node positions on screen (where in front of the eye). Faces whose nodes are all in front
+    /// of the eye are classified by the exact orientation of their screen triangle — the same
+    /// predicate the renderer uses to pick a pixel's entry and exit faces, so that sort and
+    /// rasteriser agree even on faces within rounding of edge-on.
+    pub screen: &'a [[f64; 2]],
     /// Perspective: the eye is at the origin; orthographic: the viewer is at +∞ along z.
     pub perspective: bool,
+    /// The model transform has a negative determinant (a mirror): every orientation flips.
+    pub mirrored: bool,
 }
 
 /// A back-to-front order of all cells and how many cells had to be forced out of a visibility

@@ -7,6 +7,7 @@ use rayon::prelude::*;
 
 use super::{Order, SortInfo, SortInput};
 use crate::mesh::{FACE_NODES, NO_NEIGHBOR, orientation};
+use crate::render::faces::{entry_sign, orient_sign};
 
 pub const MPVO: SortInfo = SortInfo {
     name: "mpvo",
@@ -25,31 +26,22 @@ pub const MPVONC: SortInfo = SortInfo {
 #[cfg(test)]
 fn facing(input: &SortInput, cell: usize, f: usize) -> i8 {
     let corners = input.mesh.gather(cell, input.eye_nodes);
-    face_sign(&corners, f, input.perspective)
+    let screen = input.mesh.gather(cell, input.screen);
+    face_sign(&corners, &screen, f, input)
 }
 
-/// [`facing`] for a cell whose corners (in eye space) are at hand.
+/// [`facing`] for a cell whose corners (in eye space and on screen) are at hand.
 #[inline]
-fn face_sign(p: &[[f64; 3]; 4], f: usize, perspective: bool) -> i8 {
+fn face_sign(p: &[[f64; 3]; 4], s: &[[f64; 2]; 4], f: usize, input: &SortInput) -> i8 {
     let [i, j, k] = FACE_NODES[f];
-    let (a, b, c) = (p[i], p[j], p[k]);
-    let s = if perspective {
-        orientation(a, b, c, [0.0; 3])
-    } else {
-        // The viewer at +∞ z: the sign of the outward normal's z component.
-        robust::orient2d(
-            robust::Coord { x: a[0], y: a[1] },
-            robust::Coord { x: b[0], y: b[1] },
-            robust::Coord { x: c[0], y: c[1] },
-        )
-    };
-    if s > 0.0 {
-        1
-    } else if s < 0.0 {
-        -1
-    } else {
-        0
+    if !input.perspective || (p[i][2] < 0.0 && p[j][2] < 0.0 && p[k][2] < 0.0) {
+        // An entry face of the cell (render/faces.rs): the viewer is on its outer side.
+        return orient_sign(s[i], s[j], s[k]) * entry_sign(input.mirrored);
     }
+    // A node at or behind the eye has no screen position: the eye's side of the plane.
+    let o = orientation(p[i], p[j], p[k], [0.0; 3]);
+    let o = if input.mirrored { -o } else { o };
+    (o > 0.0) as i8 - (o < 0.0) as i8
 }
 
 /// Per cell, packed in one byte so that the sort touches one array: bits 0–3 the faces whose
@@ -72,12 +64,13 @@ fn relation(input: &SortInput) -> Vec<u8> {
         .with_min_len(4096)
         .map(|cell| {
             let p = input.mesh.gather(cell, input.eye_nodes);
+            let s = input.mesh.gather(cell, input.screen);
             let mut state = 0u8;
             for f in 0..4 {
                 if nbs[cell][f] == NO_NEIGHBOR {
                     continue;
                 }
-                match face_sign(&p, f, input.perspective) {
+                match face_sign(&p, &s, f, input) {
                     1 => state |= 1 << f,
                     -1 => state += BEHIND,
                     _ => {}
@@ -284,10 +277,22 @@ mod tests {
                     [q[0] + shift[0], q[1] + shift[1], q[2] + shift[2]]
                 })
                 .collect();
+            let screen: Vec<[f64; 2]> = eye_nodes
+                .iter()
+                .map(|p| {
+                    if k % 2 == 0 {
+                        [p[0] / -p[2], -p[1] / -p[2]]
+                    } else {
+                        [p[0], -p[1]]
+                    }
+                })
+                .collect();
             let input = SortInput {
                 mesh: &mesh,
                 eye_nodes: &eye_nodes,
+                screen: &screen,
                 perspective: k % 2 == 0,
+                mirrored: false,
             };
             for s in [mpvo, mpvonc] {
                 let o = s(&input);

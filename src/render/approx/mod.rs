@@ -39,6 +39,9 @@ pub struct Pixel {
     ///
     /// [`TOUCH`]: crate::render::TOUCH
     pub touch: f64,
+    /// Whether the entry and the exit face are seen edge-on up to rounding: the ray runs in
+    /// their plane, so they are no surface it crosses.
+    pub edge_on: [bool; 2],
 }
 
 /// Per-tile scratch space, so the pixel loop never allocates.

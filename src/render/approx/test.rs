@@ -56,11 +56,15 @@ impl Approx for Test {
             }
             acc.1 *= 1.0 - a;
         };
-        // Far to near: the exit face unless a line hides it, then the entry face.
-        if px.far >= px.iv.far {
+        // Far to near: the exit face unless a line hides it, then the entry face. A face seen
+        // edge-on up to rounding is no surface the ray crosses (as when it is exactly edge-on).
+        let exit = px.far >= px.iv.far && !px.edge_on[1];
+        if exit {
             surface(px.iv.far);
         }
-        if px.near <= px.iv.near {
+        // A ray that only touches the cell (an edge or a node) crosses one surface there.
+        let touches = px.iv.far - px.iv.near <= px.touch;
+        if px.near <= px.iv.near && !px.edge_on[0] && !(touches && exit) {
             surface(px.iv.near);
         }
         s.faces[px.slot] = [px.iv.near, px.iv.far];
