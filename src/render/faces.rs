@@ -54,8 +54,8 @@ pub fn orient_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
     (o > 0.0) as i8 - (o < 0.0) as i8
 }
 
-/// A face is drawn as a surface (`test`) only if its projected area is at least this fraction of
-/// the largest term of its area: below, it is seen edge-on up to rounding.
+/// A face is drawn as a surface (`test`) only if twice its projected area is at least this
+/// fraction of its longest edge squared: below, it is seen edge-on up to rounding.
 pub const EDGE_ON: f64 = 1e-9;
 
 /// Below this fraction the depth on a face is computed in double-double arithmetic.
@@ -138,11 +138,13 @@ impl CellFaces {
             });
             let [a, b, c] = face.s;
             face.orient = orient_sign(a, b, c);
-            let l = (a[0] - c[0]) * (b[1] - c[1]);
-            let r = (a[1] - c[1]) * (b[0] - c[0]);
-            let mag = l.abs() + r.abs();
-            face.sliver = (l - r).abs() < SLIVER * mag;
-            face.edge_on = face.orient == 0 || (l - r).abs() < EDGE_ON * mag;
+            // Twice the area against the square of the longest edge: the sine of the face's
+            // sharpest angle, roughly — how far from edge-on it is seen.
+            let area = ((a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0])).abs();
+            let len2 = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).powi(2) + (u[1] - v[1]).powi(2);
+            let longest = len2(a, b).max(len2(b, c)).max(len2(c, a));
+            face.sliver = area.is_nan() || area < SLIVER * longest;
+            face.edge_on = face.orient == 0 || area.is_nan() || area < EDGE_ON * longest;
         }
         // An edge of a face is inner if the other face holding it is of the same kind.
         for f in 0..4 {
