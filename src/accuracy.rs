@@ -51,6 +51,25 @@ fn with_fields(
     vol
 }
 
+/// A volume with one Linear scalar node field `s` (for the degenerate-view section of the report
+/// and its tests).
+pub fn scalar_volume(nodes: Vec<[f64; 3]>, tets: Vec<[u32; 4]>, values: Vec<f64>) -> Volume {
+    with_fields(
+        nodes,
+        tets,
+        &[("s", DataType::scalar(ScalarType::Double), values)],
+    )
+}
+
+/// A piecewise-linear emitter and absorber on `s` over [−1.5, 2].
+pub fn scalar_maps(vol: &Volume) -> Mapping {
+    maps(
+        vol,
+        "# VoRANG Colormap 1.0\nSIMPLE_EMITTER @1\n@1\n0.9 0.1 0.1 -1.5\n0.1 0.8 0.2 -0.3\n0.2 0.3 1.0 0.6\n1 1 0.2 2\n",
+        "# VoRANG Alphamap 1.0\nSIMPLE_ABSORBER @1\n@1\n0.4 -1.5\n3 -0.2\n0.8 0.7\n2.5 2\n",
+    )
+}
+
 /// The scenes: the colour cuboid, a jittered mesh with a many-breakpoint map, an opaque case
 /// with emission weighted by absorption, a case with absorption-free regions, and category
 /// switching along the ray.
