@@ -22,7 +22,8 @@
 
 use robust::{Coord, orient2d};
 
-use crate::mesh::FACE_NODES;
+use super::raster::{ROOT_ERROR, boundary};
+use crate::mesh::{EDGE_NODES, FACE_NODES};
 
 /// Whether a positively oriented polygon owns the points exactly on its edge `u → v` (top-left
 /// rule, y pointing down): a top edge runs towards +x, a left edge towards −y. Equivalent to
@@ -80,6 +81,15 @@ struct Face {
     /// Per edge `pos[k] → pos[k+1]`: shared with another face of the same kind, so it must be
     /// tested (edges on the footprint's outline were decided by its scan conversion).
     inner: [bool; 3],
+    /// Per edge: the cell edge (index into [`EDGE_NODES`]) and whether `pos[k] → pos[k+1]` runs
+    /// against it (from its higher to its lower local node).
+    edge: [(u8, bool); 3],
+    /// Not a sliver: the depth value as an affine function of the screen position, from the
+    /// canonical first node: `z = plane[0] + plane[1]·(x − s[0].x) + plane[2]·(y − s[0].y)`,
+    /// clamped to the face's range `[zmin, zmax]`.
+    plane: [f64; 3],
+    zmin: f64,
+    zmax: f64,
 }
 
 /// A cell's faces prepared for per-pixel lookups. Valid for footprints that are whole
@@ -93,6 +103,8 @@ pub struct CellFaces {
     entries: u8,
     exits: u8,
     perspective: bool,
+    /// The cell edges some face must test (bit e for [`EDGE_NODES`]`[e]`).
+    needed: u8,
 }
 
 /// Where a pixel's ray crosses a cell, from its faces.
@@ -145,6 +157,20 @@ impl CellFaces {
             let longest = len2(a, b).max(len2(b, c)).max(len2(c, a));
             face.sliver = area.is_nan() || area < SLIVER * longest;
             face.edge_on = face.orient == 0 || area.is_nan() || area < EDGE_ON * longest;
+            let z = face.z;
+            face.zmin = z[0].min(z[1]).min(z[2]);
+            face.zmax = z[0].max(z[1]).max(z[2]);
+            if !face.sliver {
+                // Well away from edge-on: the gradient of z over the screen triangle.
+                let (e1, e2) = ([b[0] - a[0], b[1] - a[1]], [c[0] - a[0], c[1] - a[1]]);
+                let (d1, d2) = (z[1] - z[0], z[2] - z[0]);
+                let det = e1[0] * e2[1] - e1[1] * e2[0];
+                face.plane = [
+                    z[0],
+                    (d1 * e2[1] - d2 * e1[1]) / det,
+                    (d2 * e1[0] - d1 * e2[0]) / det,
+                ];
+            }
         }
         // An edge of a face is inner if the other face holding it is of the same kind.
         for f in 0..4 {
@@ -154,6 +180,12 @@ impl CellFaces {
                 // Faces are numbered by their opposite node: the faces holding edge u–v are the
                 // ones opposite the two other nodes; `f` is one of them.
                 faces[f].inner[k] = kind[f] != 0 && kind[other] == kind[f];
+                let (lo, hi) = (u.min(v), u.max(v));
+                let e = EDGE_NODES
+                    .iter()
+                    .position(|&[i, j]| i == lo && j == hi)
+                    .unwrap_or(0);
+                faces[f].edge[k] = (e as u8, u > v);
             }
         }
         let mut out = CellFaces {
@@ -164,7 +196,15 @@ impl CellFaces {
             entries: 0,
             exits: 0,
             perspective,
+            needed: 0,
         };
+        for face in &faces {
+            for k in 0..3 {
+                if face.inner[k] {
+                    out.needed |= 1 << face.edge[k].0;
+                }
+            }
+        }
         for (f, &k) in kind.iter().enumerate() {
             if k > 0 {
                 out.entry[out.entries as usize] = f as u8;
@@ -229,35 +269,85 @@ impl CellFaces {
     #[inline]
     pub fn depth(&self, f: usize, p: [f64; 2]) -> f64 {
         let face = &self.faces[f];
-        let [a, b, c] = face.s;
-        let z = face.z;
         if face.sliver {
             return sliver_depth(face, p, self.perspective);
         }
-        let sign = f64::from(face.orient);
-        let w = [
-            (sign * cross(b, c, p)).max(0.0),
-            (sign * cross(c, a, p)).max(0.0),
-            (sign * cross(a, b, p)).max(0.0),
-        ];
-        let sum = w[0] + w[1] + w[2];
-        let num = w[0] * z[0] + w[1] * z[1] + w[2] * z[2];
-        if sum == 0.0 {
-            let mean = (z[0] + z[1] + z[2]) / 3.0;
-            return if self.perspective { 1.0 / mean } else { mean };
+        let [z0, gx, gy] = face.plane;
+        let a = face.s[0];
+        let z = (z0 + gx * (p[0] - a[0]) + gy * (p[1] - a[1])).clamp(face.zmin, face.zmax);
+        if self.perspective { 1.0 / z } else { z }
+    }
+
+    /// Prepares row `y` of the footprint, pixels `x0..x1`: where each inner edge splits it
+    /// (exact predicates, a few tests per edge and row instead of per pixel).
+    #[inline]
+    pub fn row(&self, y: usize, x0: usize, x1: usize) -> Row {
+        let py = y as f64 + 0.5;
+        let mut row = Row {
+            split: [0; 6],
+            rising: [true; 6],
+        };
+        for e in 0..6 {
+            if self.needed & (1 << e) == 0 {
+                continue;
+            }
+            let [i, j] = EDGE_NODES[e];
+            let (u, v) = (self.screen[i], self.screen[j]);
+            let test = |x: usize| inside(u, v, [x as f64 + 0.5, py]);
+            // E(x) = (u.x − x)(v.y − py) − (u.y − py)(v.x − x): slope u.y − v.y.
+            let slope = u[1] - v[1];
+            let (l, r) = (u[0] * (v[1] - py), (u[1] - py) * v[0]);
+            let root = (l - r) / (v[1] - u[1]);
+            let margin = ROOT_ERROR * ((l.abs() + r.abs()) / slope.abs() + root.abs());
+            row.split[e] = boundary(test, root, margin, slope, x0, x1);
+            row.rising[e] = slope >= 0.0;
         }
-        if self.perspective {
-            sum / num
-        } else {
-            num / sum
-        }
+        row
+    }
+
+    /// [`CellFaces::hit`] for pixel x of a prepared row.
+    #[inline]
+    pub fn hit_in_row(&self, row: &Row, x: usize, y: usize) -> Option<FaceHit> {
+        let holds = |f: usize| {
+            let face = &self.faces[f];
+            (0..3).all(|k| {
+                if !face.inner[k] {
+                    return true;
+                }
+                let (e, against) = face.edge[k];
+                let e = e as usize;
+                let inside = (x >= row.split[e]) == row.rising[e];
+                inside != against
+            })
+        };
+        let pick = |list: &[u8]| -> Option<usize> {
+            let (last, rest) = list.split_last()?;
+            for &f in rest {
+                if holds(f as usize) {
+                    return Some(f as usize);
+                }
+            }
+            Some(*last as usize)
+        };
+        let entry_face = pick(&self.entry[..self.entries as usize])?;
+        let exit_face = pick(&self.exit[..self.exits as usize])?;
+        let p = [x as f64 + 0.5, y as f64 + 0.5];
+        Some(FaceHit {
+            near: self.depth(entry_face, p),
+            far: self.depth(exit_face, p),
+            entry_face,
+            exit_face,
+        })
     }
 }
 
-/// `orient2d(u, v, p)` in plain floating point (the same expression for every caller).
-#[inline]
-fn cross(u: [f64; 2], v: [f64; 2], p: [f64; 2]) -> f64 {
-    (u[0] - p[0]) * (v[1] - p[1]) - (u[1] - p[1]) * (v[0] - p[0])
+/// One row of a footprint prepared by [`CellFaces::row`]: per cell edge (in [`EDGE_NODES`]
+/// order, from its lower to its higher local node), the pixel where the row crosses it — inside
+/// the edge from there on (`rising`) or before it.
+#[derive(Debug, Clone, Copy)]
+pub struct Row {
+    split: [usize; 6],
+    rising: [bool; 6],
 }
 
 /// The frame's constant for [`CellFaces::new`]: cells are positively oriented in model space and
@@ -392,6 +482,109 @@ mod tests {
             }
         }
         assert!(checked > 500, "{checked}");
+    }
+
+    /// The row-prepared lookup equals the per-pixel one everywhere, also for nodes on pixel
+    /// centres and edges through them (coordinates on a half-pixel grid).
+    #[test]
+    fn rows_and_pixels_pick_the_same_faces() {
+        let mut rng = crate::mesh::generate::SplitMix64(8);
+        let mut compared = 0;
+        for trial in 0..300 {
+            let grid = trial % 2 == 0;
+            let mut p = [[0.0; 3]; 4];
+            for q in &mut p {
+                let mut c = || {
+                    let v = 12.0 * rng.next_f64();
+                    if grid { (2.0 * v).round() / 2.0 } else { v }
+                };
+                *q = [c(), c(), -1.0 - c()];
+            }
+            let o = crate::mesh::orientation(p[0], p[1], p[2], p[3]);
+            if o == 0.0 {
+                continue;
+            }
+            if o < 0.0 {
+                p.swap(0, 1);
+            }
+            let screen = p.map(|q| [q[0], -q[1] + 12.0]);
+            let depth = p.map(|q| -q[2]);
+            let faces = CellFaces::new([3, 1, 4, 0], &screen, &depth, entry_sign(false), false);
+            for y in 0..12 {
+                let row = faces.row(y, 0, 12);
+                for x in 0..12 {
+                    let a = faces.hit(x as f64 + 0.5, y as f64 + 0.5);
+                    let b = faces.hit_in_row(&row, x, y);
+                    assert_eq!(a, b, "trial {trial}, pixel ({x}, {y})");
+                    compared += 1;
+                }
+            }
+        }
+        assert!(compared > 10_000);
+    }
+
+    /// The footprint's outline covers exactly the pixels its entry faces cover, and exactly those
+    /// its exit faces cover, each once (full three-edge tests), with nodes and edges on centres.
+    #[test]
+    fn entry_faces_and_exit_faces_each_tile_the_outline() {
+        use crate::render::raster::{Rect, rasterize_convex};
+        let mut rng = crate::mesh::generate::SplitMix64(21);
+        let rect = Rect {
+            x0: 0,
+            y0: 0,
+            x1: 10,
+            y1: 10,
+        };
+        let mut covered = 0;
+        for _ in 0..400 {
+            let mut p = [[0.0; 3]; 4];
+            for q in &mut p {
+                let mut c = || (20.0 * rng.next_f64()).round() / 2.0;
+                *q = [c(), c(), -1.0 - c()];
+            }
+            let o = crate::mesh::orientation(p[0], p[1], p[2], p[3]);
+            if o == 0.0 {
+                continue;
+            }
+            if o < 0.0 {
+                p.swap(0, 1);
+            }
+            let screen = p.map(|q| [q[0], 10.0 - q[1]]);
+            let depth = p.map(|q| -q[2]);
+            let faces = CellFaces::new([0, 1, 2, 3], &screen, &depth, entry_sign(false), false);
+            let mut outline = vec![0u8; 100];
+            // The outline: the hull of the four screen points, as the footprint gives it.
+            let fpr = crate::render::footprint::footprint(
+                [0, 1, 2, 3],
+                &p,
+                &screen,
+                &crate::scene::Projector::new(None, [10.0, 10.0, 1.0], 10, 10).unwrap(),
+            )
+            .unwrap();
+            if let Some((v, n)) = fpr.hull() {
+                rasterize_convex(&v[..n], rect, |x, y| outline[y * 10 + x] += 1);
+            }
+            for kind in [
+                &faces.entry[..faces.entries as usize],
+                &faces.exit[..faces.exits as usize],
+            ] {
+                let mut count = vec![0u8; 100];
+                for &f in kind {
+                    let pos = faces.faces[f as usize].pos.map(|k| screen[k as usize]);
+                    for y in 0..10 {
+                        for x in 0..10 {
+                            let q = [x as f64 + 0.5, y as f64 + 0.5];
+                            if (0..3).all(|k| inside(pos[k], pos[(k + 1) % 3], q)) {
+                                count[y * 10 + x] += 1;
+                            }
+                        }
+                    }
+                }
+                assert_eq!(count, outline, "{p:?}");
+            }
+            covered += outline.iter().filter(|&&c| c > 0).count();
+        }
+        assert!(covered > 1000, "{covered}");
     }
 
     #[test]

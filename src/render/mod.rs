@@ -37,11 +37,11 @@ pub use lines::LineDraw;
 
 use approx::{Approx, Pixel, Scratch};
 use cell::{CellRays, EyeCell, Interval};
-use faces::CellFaces;
+use faces::{CellFaces, FaceHit};
 use footprint::footprint;
 use frame::{Backdrop, Frame};
 use gouraud::Fan;
-use raster::{Rect, rasterize, rasterize_convex};
+use raster::{Rect, rasterize, rasterize_convex, rasterize_convex_rows};
 use runs::Runs;
 
 use crate::error::Error;
@@ -470,22 +470,11 @@ fn render_tile<A: Approx>(
         let unclipped = !camera_clips && !line_clips;
         // A whole projection: every pixel's interval from the faces (watertight); a cell
         // reaching in front of a perspective near plane keeps the per-cell clip.
-        let faces = fp
-            .projection
-            .is_some()
+        // The fan of a screen-space method needs them only to chain runs.
+        let fan_only = A::SCREEN_SPACE && unclipped && !per_pixel;
+        let faces = (fp.projection.is_some() && !fan_only)
             .then(|| CellFaces::new(tets[cell], &screen, &depth, f.entry_sign, perspective));
         let nb = &neighbors[cell];
-        let link = |iv: &Interval| runs::Link {
-            cell: cell as u32,
-            entry_neighbor: if faces.is_none() && iv.near <= dmin {
-                NO_NEIGHBOR
-            } else {
-                nb[iv.entry_face]
-            },
-            exit_neighbor: nb[iv.exit_face],
-            near: iv.near,
-            far: iv.far,
-        };
         let hull = fp.hull();
         let mut prepared: Option<A::Cell> = None;
         // Screen-space methods on unclipped cells: Gouraud shading over the outline.
@@ -530,13 +519,34 @@ fn render_tile<A: Approx>(
                 prepared = Some(c);
             }
         }
+        let faces = match faces {
+            None if fan_only && fp.projection.is_some() => Some(CellFaces::new(
+                tets[cell],
+                &screen,
+                &depth,
+                f.entry_sign,
+                perspective,
+            )),
+            other => other,
+        };
+        let link = |iv: &Interval| runs::Link {
+            cell: cell as u32,
+            entry_neighbor: if faces.is_none() && iv.near <= dmin {
+                NO_NEIGHBOR
+            } else {
+                nb[iv.entry_face]
+            },
+            exit_neighbor: nb[iv.exit_face],
+            near: iv.near,
+            far: iv.far,
+        };
         // Everything else per ray: over the outline where the method needs no fan triangle.
         let rays = CellRays::new(&ec, &f.projector);
         let hull = if A::SCREEN_SPACE { None } else { hull };
         let parts = if hull.is_some() { 1 } else { fp.count };
         for k in 0..parts {
             let corners = fp.corners[k];
-            let mut draw = |x: usize, y: usize, weights: [f64; 3]| {
+            let mut draw = |x: usize, y: usize, weights: [f64; 3], hit: Option<FaceHit>| {
                 let slot = (y - rect.y0) * tw + (x - rect.x0);
                 if let Pixels::Direct(acc) = &pixels {
                     if order == Order::FrontToBack && acc[slot].1 < EARLY_TERMINATION {
@@ -544,11 +554,9 @@ fn render_tile<A: Approx>(
                     }
                 }
                 let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
-                let iv = match &faces {
-                    Some(cf) => {
-                        let Some(h) = cf.hit(px, py) else {
-                            return;
-                        };
+                let iv = match (&faces, hit) {
+                    (Some(_), None) => return,
+                    (Some(_), Some(h)) => {
                         let (a, b) = rays.line(px, py);
                         Interval {
                             near: h.near,
@@ -560,7 +568,7 @@ fn render_tile<A: Approx>(
                             b,
                         }
                     }
-                    None => {
+                    (None, _) => {
                         let Some(iv) = rays.interval(px, py).filter(|iv| iv.far - iv.near > touch)
                         else {
                             return;
@@ -610,12 +618,30 @@ fn render_tile<A: Approx>(
                     Pixels::Runs(runs) => runs.add(slot, link(&iv), piece),
                 }
             };
-            if let Some((v, count)) = hull {
-                rasterize_convex(&v[..count], rect, |x, y| draw(x, y, [0.0; 3]));
-            } else if A::SCREEN_SPACE {
-                rasterize::<true>(&fp.tris[k], rect, draw);
-            } else {
-                rasterize::<false>(&fp.tris[k], rect, draw);
+            let at = |x: usize, y: usize| {
+                faces
+                    .as_ref()
+                    .and_then(|cf| cf.hit(x as f64 + 0.5, y as f64 + 0.5))
+            };
+            match (hull, &faces) {
+                (Some((v, count)), Some(cf)) => {
+                    // Rows: the inner edges are settled once per row, not per pixel.
+                    rasterize_convex_rows(&v[..count], rect, |y, from, to| {
+                        let row = cf.row(y, from, to);
+                        for x in from..to {
+                            draw(x, y, [0.0; 3], cf.hit_in_row(&row, x, y));
+                        }
+                    });
+                }
+                (Some((v, count)), None) => {
+                    rasterize_convex(&v[..count], rect, |x, y| draw(x, y, [0.0; 3], None));
+                }
+                (None, _) if A::SCREEN_SPACE => {
+                    rasterize::<true>(&fp.tris[k], rect, |x, y, w| draw(x, y, w, at(x, y)));
+                }
+                (None, _) => {
+                    rasterize::<false>(&fp.tris[k], rect, |x, y, w| draw(x, y, w, at(x, y)));
+                }
             }
         }
     }

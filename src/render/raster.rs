@@ -122,6 +122,17 @@ pub fn rasterize<const WEIGHTS: bool>(
 /// possibly a pixel centre exactly on a vertex, where the rule depends on the inner edges.
 #[inline]
 pub fn rasterize_convex(poly: &[[f64; 2]], rect: Rect, f: impl FnMut(usize, usize)) {
+    let mut f = f;
+    rasterize_convex_rows(poly, rect, |y, from, to| {
+        for x in from..to {
+            f(x, y);
+        }
+    });
+}
+
+/// [`rasterize_convex`] by rows: `f(y, from, to)` for the covered pixels `from..to` of row y.
+#[inline]
+pub fn rasterize_convex_rows(poly: &[[f64; 2]], rect: Rect, f: impl FnMut(usize, usize, usize)) {
     let c = |p: [f64; 2]| Coord { x: p[0], y: p[1] };
     let o = orient2d(c(poly[0]), c(poly[1]), c(poly[2]));
     if o == 0.0 {
@@ -137,7 +148,7 @@ pub fn rasterize_convex(poly: &[[f64; 2]], rect: Rect, f: impl FnMut(usize, usiz
                 [poly[0], poly[2], poly[1]]
             };
             if let Some(shape) = Convex::new(v, rect) {
-                shape.scan(|x, y, _| f(x, y));
+                shape.scan_rows(|y, from, to, _| f(y, from, to));
             }
         }
         4 => {
@@ -147,7 +158,7 @@ pub fn rasterize_convex(poly: &[[f64; 2]], rect: Rect, f: impl FnMut(usize, usiz
                 [poly[0], poly[3], poly[2], poly[1]]
             };
             if let Some(shape) = Convex::new(v, rect) {
-                shape.scan(|x, y, _| f(x, y));
+                shape.scan_rows(|y, from, to, _| f(y, from, to));
             }
         }
         _ => unreachable!("footprint hulls have three or four vertices"),
@@ -203,13 +214,23 @@ impl<const N: usize> Convex<N> {
     }
 
     /// Calls `f(x, y, rows)` for every covered pixel, `rows` the edges' row terms.
-    ///
-    /// Each edge function is monotone in x along a row (so is its rounded value): the pixels
-    /// inside one edge form a half-line, those inside all of them a run. Per edge, the end of
-    /// its half-line is estimated from the root (E_k = 0 at px = c.x + row/d.y) and settled with
-    /// the exact test of that edge alone — usually two evaluations.
     #[inline]
     fn scan(&self, mut f: impl FnMut(usize, usize, &[f64; N])) {
+        self.scan_rows(|y, from, to, rows| {
+            for x in from..to {
+                f(x, y, rows);
+            }
+        });
+    }
+
+    /// Calls `f(y, from, to, rows)` for every row with covered pixels `from..to`.
+    ///
+    /// Each edge function is monotone in x along a row: the pixels inside one edge form a
+    /// half-line, those inside all of them a run. Per edge, the end of its half-line is estimated
+    /// from the root (E_k = 0 at px = c.x + row/d.y) and settled with the exact test of that edge
+    /// alone ([`boundary`]) — usually two evaluations.
+    #[inline]
+    fn scan_rows(&self, mut f: impl FnMut(usize, usize, usize, &[f64; N])) {
         let (x0, x1) = (self.x0, self.x1);
         for y in self.y0..self.y1 {
             let py = y as f64 + 0.5;
@@ -222,56 +243,82 @@ impl<const N: usize> Convex<N> {
                 let [u, v] = self.ends[k];
                 let test = |x: usize| exact_inside(u, v, [x as f64 + 0.5, py]);
                 let slope = -e.sign * e.d[1];
-                if slope == 0.0 {
-                    if !test(x0) {
-                        to = from;
-                    }
-                    continue;
-                }
-                // The first pixel whose centre is past the root, within [x0, x1]. The root is
-                // accurate to far below a pixel, so this is the end of the edge's half-line but
-                // for centres exactly on the edge, where ownership decides: check the two
-                // pixels around it, and walk only if that fails.
-                let root = e.c[0] + rows[k] * self.inv_dy[k];
-                let mut x = if root.is_finite() {
-                    (floor(root - 0.5) + 1.0).clamp(x0 as f64, x1 as f64) as usize
-                } else if slope > 0.0 {
-                    x0
-                } else {
-                    x1
-                };
-                let before = x > x0 && test(x - 1);
-                let at = x < x1 && test(x);
-                if slope > 0.0 {
-                    // Inside from some x on: find the first.
-                    if before || !at {
-                        while x > x0 && test(x - 1) {
-                            x -= 1;
-                        }
-                        while x < x1 && !test(x) {
-                            x += 1;
-                        }
-                    }
+                let q = rows[k] * self.inv_dy[k];
+                let root = e.c[0] + q;
+                // A generous bound on the rounding of the root (a few ulps of its terms).
+                let margin = ROOT_ERROR * (e.c[0].abs() + q.abs());
+                let x = boundary(test, root, margin, slope, x0, x1);
+                if slope >= 0.0 {
                     from = from.max(x);
                 } else {
-                    // Inside up to some x: find the end (exclusive).
-                    if !before || at {
-                        while x < x1 && test(x) {
-                            x += 1;
-                        }
-                        while x > x0 && !test(x - 1) {
-                            x -= 1;
-                        }
-                    }
                     to = to.min(x);
                 }
             }
-            for x in from..to {
-                f(x, y, &rows);
+            if from < to {
+                f(y, from, to, &rows);
             }
         }
     }
 }
+
+/// Where a half-line of pixels along a row ends: `test(x)` (pixel centre x + ½ inside an edge) is
+/// monotone in x — increasing for `slope > 0` (inside from the result on), decreasing for
+/// `slope < 0` (inside before the result), constant for `slope = 0` (the result is `x0` if
+/// inside, else `x1`). `root` estimates where the edge crosses the row; it is accurate to far
+/// below a pixel, so the two pixels around it settle the end unless a centre lies exactly on
+/// the edge, where ownership decides — then it walks. Where the root is known to be within
+/// `margin` of the exact crossing and no pixel centre is that close to it, the estimate is the
+/// answer without a test. Result in `x0..=x1`.
+#[inline]
+pub fn boundary(
+    test: impl Fn(usize) -> bool,
+    root: f64,
+    margin: f64,
+    slope: f64,
+    x0: usize,
+    x1: usize,
+) -> usize {
+    if slope == 0.0 || slope.is_nan() {
+        return if x0 < x1 && test(x0) { x0 } else { x1 };
+    }
+    let first = floor(root - 0.5) + 1.0;
+    if root.is_finite() && root - (first - 0.5) > margin && (first + 0.5) - root > margin {
+        // No centre within the margin: every centre's side is certain.
+        return first.clamp(x0 as f64, x1 as f64) as usize;
+    }
+    let mut x = if root.is_finite() {
+        first.clamp(x0 as f64, x1 as f64) as usize
+    } else if slope > 0.0 {
+        x0
+    } else {
+        x1
+    };
+    let before = x > x0 && test(x - 1);
+    let at = x < x1 && test(x);
+    if slope > 0.0 {
+        // Inside from some x on: find the first.
+        if before || !at {
+            while x > x0 && test(x - 1) {
+                x -= 1;
+            }
+            while x < x1 && !test(x) {
+                x += 1;
+            }
+        }
+    } else if !before || at {
+        // Inside up to some x: find the end (exclusive).
+        while x < x1 && test(x) {
+            x += 1;
+        }
+        while x > x0 && !test(x - 1) {
+            x -= 1;
+        }
+    }
+    x
+}
+
+/// Relative error bound used for root estimates: ~45 ulps, far above the few roundings in them.
+pub const ROOT_ERROR: f64 = 1e-14;
 
 /// `⌊x⌋` without a library call (the baseline x86-64 target has no rounding instruction);
 /// saturating for values beyond ±2⁶³, which the callers clamp anyway.
