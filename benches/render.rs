@@ -71,15 +71,19 @@ fn scene(cells: usize) -> &'static Scene {
         .expect("a benchmark size");
     SCENES[i].get_or_init(|| {
         let vol = jittered_box(cells, 0.1, 1);
-        let c = parse_map::<dyn ColorShading>(COLORMAP.as_bytes(), "five.cmap")
-            .expect("colormap")
-            .0;
-        let a = parse_map::<dyn AlphaShading>(ALPHAMAP.as_bytes(), "five.amap")
-            .expect("alphamap")
-            .0;
-        let mapping = Mapping::new(&c, &a, &vol).expect("mapping").0;
+        let mapping = scene_maps(&vol);
         Scene { vol, mapping }
     })
+}
+
+fn scene_maps(vol: &Volume) -> Mapping {
+    let c = parse_map::<dyn ColorShading>(COLORMAP.as_bytes(), "five.cmap")
+        .expect("colormap")
+        .0;
+    let a = parse_map::<dyn AlphaShading>(ALPHAMAP.as_bytes(), "five.amap")
+        .expect("alphamap")
+        .0;
+    Mapping::new(&c, &a, vol).expect("mapping").0
 }
 
 /// The box turned 30° about (1, 1, 0); orthographic with the default camera (the box fills
@@ -138,6 +142,20 @@ fn run_frame(bencher: divan::Bencher, case: &str, method: &str) {
     let (cells, pixels, perspective) = frame(case);
     let s = scene(cells);
     let (view, settings) = (view(perspective), settings(pixels, method));
+    bencher.bench(|| render(&s.vol, &s.mapping, &view, &settings, None).expect("render"));
+}
+
+/// The box with 3 % of its cells removed (cavities, tunnels): non-convex, ordered per pixel.
+#[divan::bench(args = ["150k/512/ortho", "150k/512/persp", "1M/512/ortho"], sample_count = 5, sample_size = 1)]
+fn non_convex_exact_linear(bencher: divan::Bencher, case: &str) {
+    static HOLEY: [OnceLock<Scene>; 2] = [OnceLock::new(), OnceLock::new()];
+    let (cells, pixels, perspective) = frame(case);
+    let s = HOLEY[usize::from(cells > 200_000)].get_or_init(|| {
+        let vol = vorang::volume::jittered_box_with_holes(cells, 0.1, 1, 0.03);
+        let mapping = scene_maps(&vol);
+        Scene { vol, mapping }
+    });
+    let (view, settings) = (view(perspective), settings(pixels, METHODS[0].1));
     bencher.bench(|| render(&s.vol, &s.mapping, &view, &settings, None).expect("render"));
 }
 

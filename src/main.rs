@@ -59,6 +59,9 @@ enum Command {
         jitter: f64,
         #[arg(long, default_value_t = 1)]
         seed: u64,
+        /// Remove this fraction of the cells at random (0 … 0.5): a non-convex mesh.
+        #[arg(long, default_value_t = 0.0)]
+        holes: f64,
         /// Write BINARY instead of ASCII.
         #[arg(long)]
         binary: bool,
@@ -121,6 +124,7 @@ fn data_command(command: Command) -> Result<(), Error> {
             tets,
             jitter,
             seed,
+            holes,
             binary,
             full,
         } => {
@@ -129,7 +133,12 @@ fn data_command(command: Command) -> Result<(), Error> {
                     "--jitter {jitter}: expected a value in 0 … 0.15"
                 )));
             }
-            let vol = vorang::volume::jittered_box(tets, jitter, seed);
+            if !(0.0..=0.5).contains(&holes) {
+                return Err(Error::Invalid(format!(
+                    "--holes {holes}: expected a fraction in 0 … 0.5"
+                )));
+            }
+            let vol = vorang::volume::jittered_box_with_holes(tets, jitter, seed, holes);
             let opts = WriteOptions {
                 encoding: if binary {
                     Encoding::Binary

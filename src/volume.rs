@@ -457,8 +457,18 @@ pub fn subset(vol: &Volume, field: usize) -> Result<Volume, Error> {
 /// A jittered Kuhn box in the unit cube with about `tets` cells and one smooth scalar node field
 /// (float, values in [0, 1]): the benchmark and test volume.
 pub fn jittered_box(tets: usize, jitter: f64, seed: u64) -> Volume {
+    jittered_box_with_holes(tets, jitter, seed, 0.0)
+}
+
+/// [`jittered_box`] with each cell removed with probability `holes` (deterministic for a seed):
+/// a non-convex mesh with cavities and tunnels, as meshes with excluded regions are.
+pub fn jittered_box_with_holes(tets: usize, jitter: f64, seed: u64, holes: f64) -> Volume {
     let n = crate::mesh::generate::cubes_for(tets);
-    let (nodes, cells) = crate::mesh::generate::kuhn_box([n, n, n], [1.0; 3], jitter, seed);
+    let (nodes, mut cells) = crate::mesh::generate::kuhn_box([n, n, n], [1.0; 3], jitter, seed);
+    if holes > 0.0 {
+        let mut rng = crate::mesh::generate::SplitMix64(seed ^ 0x005e_ed0f_4013);
+        cells.retain(|_| rng.next_f64() >= holes);
+    }
     let values: Vec<f32> = nodes.iter().map(|&p| smooth_scalar(p) as f32).collect();
     // A Kuhn box with jitter ≤ 0.15 is always a valid mesh (checked by the generator's tests).
     let mesh = TetMesh::new(nodes, cells)

@@ -28,6 +28,8 @@ pub struct Frame<'a> {
     pub line_depth: Option<Vec<f64>>,
     /// Which screen orientation makes a face an entry face ([`super::faces::entry_sign`]).
     pub entry_sign: i8,
+    /// Each cell's place in the compositing order (empty unless the order is settled per pixel).
+    pub rank: Vec<u32>,
 }
 
 impl Frame<'_> {

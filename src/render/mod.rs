@@ -192,9 +192,18 @@ pub fn render(
     // MPVO's order is exact for a convex mesh without cycles; anything else is settled per
     // pixel.
     let per_pixel = !convex || order.cycle_cells > 0;
+
     let mut cells = order.back_to_front;
     if settings.order == Order::FrontToBack {
         cells.reverse();
+    }
+    // Each cell's place in the compositing order, for the per-pixel runs.
+    let mut rank = Vec::new();
+    if per_pixel {
+        rank = vec![0u32; mesh.tet_count()];
+        for (i, &c) in cells.iter().enumerate() {
+            rank[c as usize] = i as u32;
+        }
     }
     let sort_time = sorting.elapsed();
 
@@ -218,6 +227,7 @@ pub fn render(
         background,
         line_depth,
         entry_sign: faces::entry_sign(mirrored),
+        rank,
     };
 
     // Bin the ordered cells into tiles (CSR: tile → cells in order).
@@ -475,6 +485,8 @@ fn render_tile<A: Approx>(
         let faces = (fp.projection.is_some() && !fan_only)
             .then(|| CellFaces::new(tets[cell], &screen, &depth, f.entry_sign, perspective));
         let nb = &neighbors[cell];
+        // Whether a neighbour came before this cell in the compositing order.
+        let earlier = |n: u32| n != NO_NEIGHBOR && f.rank[n as usize] < f.rank[cell];
         let hull = fp.hull();
         let mut prepared: Option<A::Cell> = None;
         // Screen-space methods on unclipped cells: Gouraud shading over the outline.
@@ -503,10 +515,13 @@ fn render_tile<A: Approx>(
                                     return;
                                 };
                                 fragments += 1;
+                                let (en, xn) = (nb[h.entry_face], nb[h.exit_face]);
                                 let l = runs::Link {
                                     cell: cell as u32,
-                                    entry_neighbor: nb[h.entry_face],
-                                    exit_neighbor: nb[h.exit_face],
+                                    entry_neighbor: en,
+                                    exit_neighbor: xn,
+                                    entry_earlier: earlier(en),
+                                    exit_earlier: earlier(xn),
                                     near: h.near,
                                     far: h.far,
                                 };
@@ -529,16 +544,22 @@ fn render_tile<A: Approx>(
             )),
             other => other,
         };
-        let link = |iv: &Interval| runs::Link {
-            cell: cell as u32,
-            entry_neighbor: if faces.is_none() && iv.near <= dmin {
+        let link = |iv: &Interval| {
+            let entry = if faces.is_none() && iv.near <= dmin {
                 NO_NEIGHBOR
             } else {
                 nb[iv.entry_face]
-            },
-            exit_neighbor: nb[iv.exit_face],
-            near: iv.near,
-            far: iv.far,
+            };
+            let exit = nb[iv.exit_face];
+            runs::Link {
+                cell: cell as u32,
+                entry_neighbor: entry,
+                exit_neighbor: exit,
+                entry_earlier: earlier(entry),
+                exit_earlier: earlier(exit),
+                near: iv.near,
+                far: iv.far,
+            }
         };
         // Everything else per ray: over the outline where the method needs no fan triangle.
         let rays = CellRays::new(&ec, &f.projector);

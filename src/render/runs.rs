@@ -18,15 +18,17 @@
 //! where the sort is not known to be exact (non-convex meshes, broken cycles); convex meshes
 //! composite straight into the pixel.
 
-use crate::mesh::NO_NEIGHBOR;
-
 /// Where a fragment lies along its ray: its cell, the cells across its entry and exit faces
-/// ([`NO_NEIGHBOR`] at the mesh boundary or where it is clipped), and its depth interval.
+/// ([`crate::mesh::NO_NEIGHBOR`] at the mesh boundary or where it is clipped), and its depth interval.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Link {
     pub cell: u32,
     pub entry_neighbor: u32,
     pub exit_neighbor: u32,
+    /// Whether the neighbour across the entry (exit) face came earlier in the compositing
+    /// order — only then can a run end at it; otherwise its list is not searched.
+    pub entry_earlier: bool,
+    pub exit_earlier: bool,
     pub near: f64,
     pub far: f64,
 }
@@ -53,10 +55,18 @@ fn compose(outer: ([f64; 3], f64), inner: ([f64; 3], f64)) -> ([f64; 3], f64) {
     )
 }
 
-/// The runs of every pixel of a tile.
+const NONE: u32 = u32::MAX;
+
+/// The runs of every pixel of a tile: one arena, a list per pixel (no allocation per pixel).
 #[derive(Debug, Default)]
 pub struct Runs {
-    pixels: Vec<Vec<Run>>,
+    /// Per pixel: its first run in `arena`, or `NONE`.
+    heads: Vec<u32>,
+    /// Per pixel: how many runs it holds.
+    counts: Vec<u16>,
+    arena: Vec<(Run, u32)>,
+    /// Scratch for sorting a pixel's runs.
+    sorted: Vec<Run>,
     /// The most runs any pixel held (memory report).
     pub most: usize,
 }
@@ -64,63 +74,122 @@ pub struct Runs {
 impl Runs {
     pub fn new(pixels: usize) -> Runs {
         Runs {
-            pixels: (0..pixels).map(|_| Vec::new()).collect(),
+            heads: vec![NONE; pixels],
+            counts: vec![0; pixels],
+            arena: Vec::with_capacity(pixels + pixels / 4),
+            sorted: Vec::new(),
             most: 0,
         }
     }
 
     /// Adds fragment `link` with contribution `piece` (`I ↦ I·θ + b`) to pixel `slot`.
+    #[inline]
     pub fn add(&mut self, slot: usize, link: Link, piece: ([f64; 3], f64)) {
-        let runs = &mut self.pixels[slot];
-        let behind = (link.exit_neighbor != NO_NEIGHBOR)
-            .then(|| runs.iter().position(|r| r.front == link.exit_neighbor))
-            .flatten();
-        let before = (link.entry_neighbor != NO_NEIGHBOR)
-            .then(|| runs.iter().position(|r| r.back == link.entry_neighbor))
-            .flatten();
+        // The run the fragment lies in front of (its front cell is across our exit face) and the
+        // one it lies behind (its back cell is across our entry face). In a good order only one
+        // neighbour came earlier, and the run it ends is first in the list (move to front).
+        let behind = if link.exit_earlier {
+            self.find(slot, |r| r.front == link.exit_neighbor)
+        } else {
+            None
+        };
+        let before = if link.entry_earlier {
+            self.find(slot, |r| r.back == link.entry_neighbor)
+        } else {
+            None
+        };
         match (before, behind) {
             (None, None) => {
-                runs.push(Run {
+                let run = Run {
                     b: piece.0,
                     theta: piece.1,
                     front: link.cell,
                     back: link.cell,
                     near: link.near,
                     far: link.far,
-                });
-                self.most = self.most.max(runs.len());
+                };
+                self.arena.push((run, self.heads[slot]));
+                self.heads[slot] = (self.arena.len() - 1) as u32;
+                self.counts[slot] = self.counts[slot].saturating_add(1);
+                self.most = self.most.max(usize::from(self.counts[slot]));
             }
-            (None, Some(r)) => {
-                let run = &mut runs[r];
-                (run.b, run.theta) = compose(piece, (run.b, run.theta));
-                run.front = link.cell;
-                run.near = link.near;
+            (None, Some((r, prev))) => {
+                prepend(&mut self.arena[r as usize].0, &link, piece);
+                self.move_first(slot, r, prev);
             }
-            (Some(s), None) => {
-                let run = &mut runs[s];
-                (run.b, run.theta) = compose((run.b, run.theta), piece);
-                run.back = link.cell;
-                run.far = link.far;
+            (Some((f, prev)), None) => {
+                append(&mut self.arena[f as usize].0, &link, piece);
+                self.move_first(slot, f, prev);
             }
-            (Some(s), Some(r)) => {
-                let back = runs[r];
-                let front = &mut runs[s];
-                let map = compose(compose((front.b, front.theta), piece), (back.b, back.theta));
-                (front.b, front.theta) = map;
+            (Some((f, _)), Some((r, _))) => {
+                // Both: the fragment joins the run in front to the one behind (cycles, or
+                // fragments out of order). Unlink the one behind.
+                let back = self.arena[r as usize].0;
+                self.unlink(slot, r);
+                let front = &mut self.arena[f as usize].0;
+                append(front, &link, piece);
+                (front.b, front.theta) = compose((front.b, front.theta), (back.b, back.theta));
                 front.back = back.back;
                 front.far = back.far;
-                runs.swap_remove(r);
+                self.counts[slot] -= 1;
             }
+        }
+    }
+
+    /// The first run of a pixel with `pred`, and the run before it in the list.
+    #[inline]
+    fn find(&self, slot: usize, pred: impl Fn(&Run) -> bool) -> Option<(u32, u32)> {
+        let (mut prev, mut at) = (NONE, self.heads[slot]);
+        while at != NONE {
+            let (r, next) = &self.arena[at as usize];
+            if pred(r) {
+                return Some((at, prev));
+            }
+            prev = at;
+            at = *next;
+        }
+        None
+    }
+
+    #[inline]
+    fn move_first(&mut self, slot: usize, at: u32, prev: u32) {
+        if prev != NONE {
+            self.arena[prev as usize].1 = self.arena[at as usize].1;
+            self.arena[at as usize].1 = self.heads[slot];
+            self.heads[slot] = at;
+        }
+    }
+
+    fn unlink(&mut self, slot: usize, at: u32) {
+        let next = self.arena[at as usize].1;
+        if self.heads[slot] == at {
+            self.heads[slot] = next;
+            return;
+        }
+        let mut p = self.heads[slot];
+        while p != NONE {
+            if self.arena[p as usize].1 == at {
+                self.arena[p as usize].1 = next;
+                return;
+            }
+            p = self.arena[p as usize].1;
         }
     }
 
     /// The pixel's intensity over background `i0` and the volume's transparency: its runs
     /// composited back to front by depth.
     pub fn resolve(&mut self, slot: usize, i0: [f64; 3]) -> ([f64; 3], f64) {
-        let runs = &mut self.pixels[slot];
-        runs.sort_by(|a, b| a.near.total_cmp(&b.near).then(a.far.total_cmp(&b.far)));
+        self.sorted.clear();
+        let mut at = self.heads[slot];
+        while at != NONE {
+            let (r, next) = self.arena[at as usize];
+            self.sorted.push(r);
+            at = next;
+        }
+        self.sorted
+            .sort_by(|a, b| a.near.total_cmp(&b.near).then(a.far.total_cmp(&b.far)));
         let mut acc = (i0, 1.0);
-        for r in runs.iter().rev() {
+        for r in self.sorted.iter().rev() {
             let (i, t) = acc;
             acc = (
                 [
@@ -131,20 +200,38 @@ impl Runs {
                 t * r.theta,
             );
         }
-        runs.clear();
         acc
     }
+}
+
+/// Puts a fragment in front of a run.
+#[inline]
+fn prepend(run: &mut Run, link: &Link, piece: ([f64; 3], f64)) {
+    (run.b, run.theta) = compose(piece, (run.b, run.theta));
+    run.front = link.cell;
+    run.near = link.near;
+}
+
+/// Puts a fragment behind a run.
+#[inline]
+fn append(run: &mut Run, link: &Link, piece: ([f64; 3], f64)) {
+    (run.b, run.theta) = compose((run.b, run.theta), piece);
+    run.back = link.cell;
+    run.far = link.far;
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mesh::NO_NEIGHBOR;
 
     fn link(cell: u32, entry: u32, exit: u32, near: f64) -> Link {
         Link {
             cell,
             entry_neighbor: entry,
             exit_neighbor: exit,
+            entry_earlier: entry != NO_NEIGHBOR,
+            exit_earlier: exit != NO_NEIGHBOR,
             near,
             far: near + 1.0,
         }

@@ -108,8 +108,9 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
     write_image(&fb, &path).map_err(|e| e.to_string())?;
     s.next_number += 1;
     if stats.cycle_cells > 0 {
-        s.reporter.warn(&format!(
-            "{}: {} cells were in visibility cycles; their order is approximate",
+        // SPEC §4: detect and report. The image is still exact: the order is settled per pixel.
+        s.reporter.info(&format!(
+            "{}: {} cells were in visibility cycles; ordered per pixel",
             c.info.name, stats.cycle_cells
         ));
     }
@@ -126,10 +127,15 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
         let t = stats.timing;
         let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
         s.reporter.info(&format!(
-            "  setup {:.1} ms, sort {:.1} ms ({}), bin {:.1} ms, draw {:.1} ms; {} ray segments on {} threads",
+            "  setup {:.1} ms, sort {:.1} ms ({}{}), bin {:.1} ms, draw {:.1} ms; {} ray segments on {} threads",
             ms(t.setup),
             ms(t.sort),
             stats.sort,
+            if stats.per_pixel {
+                format!(", per-pixel order: up to {} runs on a ray", stats.most_runs)
+            } else {
+                String::new()
+            },
             ms(t.bin),
             ms(t.draw),
             stats.fragments,
