@@ -178,20 +178,37 @@ fn rotate(axis: [f64; 3], degrees: f64) -> TransformOp {
 /// The degenerate-view section (same scenes as `tests/watertight.rs`).
 fn degenerate() {
     println!("## Degenerate views, non-convex meshes, mirrors\n");
-    println!(
-        "Each pixel's interval in a cell comes from the cell's entry and exit faces, decided by exact"
-    );
-    println!(
-        "predicates with the top-left rule; a face's depth is computed once from the face alone, so"
-    );
-    println!(
-        "one cell's exit is the next one's entry bit for bit (double-double weights for faces within"
-    );
-    println!(
-        "rounding of edge-on). Non-convex meshes and broken visibility cycles are composited in"
-    );
-    println!("per-pixel runs of face-adjacent cells, sorted by depth. Measured (largest channel");
-    println!("difference, 18² or 24² pixels):\n");
+    for line in [
+        "How the renderer stays exact where rays run within rounding of face planes, where rays leave",
+        "and re-enter the mesh, and under mirroring transforms (`src/render/faces.rs`, `runs.rs`):",
+        "",
+        "- A pixel's interval in a cell comes from the cell's entry and exit faces, chosen by exact",
+        "  orientation predicates with the top-left rule. A face's crossing depth is computed once from",
+        "  the face alone (its nodes in node-number order), so one cell's exit is the next one's entry",
+        "  bit for bit and the intervals along a ray telescope; faces within rounding of edge-on get",
+        "  their weights in double-double arithmetic.",
+        "- Node positions on screen lie on a 2⁻²⁸ px grid: a view that is degenerate up to rounding (an",
+        "  axis view after `vol_rotate 0 1 0 90`, an animation turned a full circle) is then exactly the",
+        "  degenerate view, for every method, including the step rules, `interpolateColor` and `test`,",
+        "  whose results depend on where cell boundaries fall along a ray.",
+        "- A transform with negative determinant turns every orientation test; the sort and the face",
+        "  classification account for it once per frame.",
+        "- MPVO's order is exact for a convex mesh without cycles. Otherwise (several bodies, cavities,",
+        "  anisotropic cells, visibility cycles) each pixel keeps runs of face-adjacent cells, joined",
+        "  through the faces its ray crosses, and composites them sorted by depth: exact per pixel",
+        "  for any mesh, whatever order the cells arrive in.",
+        "",
+        "Before this (build b07dc88, measured with the same scenes through the `vorang` program): the",
+        "two-cube farbraum mesh at 32×16 after 12 × `vol_rotate 0 1 0 30` differed from the unturned",
+        "image by up to 0.20 (`exact linear 0`), 0.12 (`exact constEA 0.05`, `interpolateCoeff`) and 0.44",
+        "(`interpolateColor`) on 32 pixels; `vol_scale -1 1 1` on a 3 000-cell jittered box differed from",
+        "the flipped image by up to 0.31 on 1 469 of 1 600 pixels. Now both are 0. More cases, each",
+        "against an independent answer, are in `tests/watertight.rs`. Measured now (largest channel",
+        "difference, 18² to 24² pixels):",
+        "",
+    ] {
+        println!("{line}");
+    }
     println!("| scene | compared with | method | max difference |");
     println!("|---|---|---|---:|");
     let size = 18;
@@ -237,6 +254,18 @@ fn degenerate() {
         let want = frame(&exact, &m, &View::default(), size, method);
         let d = largest(&half, |x, y| want.pixels[y * size + x].map(f64::from));
         println!("| Kuhn box 4³, 180° about x | mesh turned exactly | `{name}` | {d:.1e} |");
+        if method.starts_with("exact linear") || method.starts_with("interpolateCoeff") {
+            // Off the degenerate view by far more than rounding: slivers, not edge-on faces.
+            let off = frame(
+                &vol,
+                &m,
+                &turned(vec![rotate([0.0, 1.0, 0.0], 1e-5)]),
+                size,
+                method,
+            );
+            let d = largest(&off, |x, y| plain.pixels[y * size + x].map(f64::from));
+            println!("| Kuhn box 4³, 10⁻⁵° about y | unturned image | `{name}` | {d:.1e} |");
+        }
     }
     // Holes: a jittered box with 3 % of its cells removed, against the reference.
     let (nodes, mut tets) = kuhn_box([4, 4, 4], [1.0; 3], 0.12, 5);

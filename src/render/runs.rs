@@ -262,8 +262,13 @@ mod tests {
         ];
         for p in perms {
             let mut runs = Runs::new(1);
-            for k in p {
-                runs.add(0, frags[k].0, frags[k].1);
+            for (i, &k) in p.iter().enumerate() {
+                // As the renderer does: only neighbours that already arrived are searched.
+                let arrived = |c: u32| p[..i].iter().any(|&j| frags[j].0.cell == c);
+                let mut l = frags[k].0;
+                l.entry_earlier = arrived(l.entry_neighbor);
+                l.exit_earlier = arrived(l.exit_neighbor);
+                runs.add(0, l, frags[k].1);
             }
             let got = runs.resolve(0, [1.0; 3]);
             for c in 0..3 {
