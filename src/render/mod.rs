@@ -1,17 +1,25 @@
 //! The renderer: projected tetrahedra with exact per-pixel ray intervals (thesis chapters 2, 4,
 //! 6.3; SPEC §2–6).
 //!
-//! 1. Node positions to eye space (model from `vol_*`, view from `look_at`).
-//! 2. Visibility order of the cells ([`crate::sort`]).
+//! 1. Node positions to eye space (model from `vol_*`, view from `look_at`), and to screen on a
+//!    2⁻²⁸ px grid ([`crate::scene::SUBPIXEL`]), so that views degenerate up to rounding are
+//!    the degenerate views.
+//! 2. Visibility order of the cells ([`crate::sort`]), with a mirroring transform accounted for.
 //! 3. Cells are binned, in that order, into the 64×64 screen tiles their footprint's bounding
 //!    box touches.
 //! 4. Tiles are rendered in parallel (the ones with the most cells first), each into its own
-//!    buffer. Per cell: its footprint is scan-converted (the outline, or the Shirley–Tuchman
-//!    triangles where a method needs them); per covered pixel the ray's interval in the cell
-//!    ([`cell::CellRays`]) is clipped to the camera's depth range and to a grid line in front,
-//!    the approximation method gives the cell's `(b, θ)`, and that is composited back to front
-//!    (`I = I·θ + b`) or front to back. `interpolateColor` on unclipped cells needs no ray at
-//!    all: it shades the outline with [`gouraud::Fan`].
+//!    buffer. Per cell: its footprint's outline is scan-converted by rows; per covered pixel the
+//!    entry and exit face and their depths give the ray's interval in the cell
+//!    ([`faces::CellFaces`]: exact predicates, one depth per face and pixel shared by both of
+//!    its cells, so intervals along a ray meet without gap or overlap); the interval is clipped
+//!    to the camera's depth range and to a grid line in front, the approximation method gives
+//!    the cell's `(b, θ)`, and that is composited back to front (`I = I·θ + b`) or front to
+//!    back. A cell reaching in front of a perspective near plane keeps the per-cell clip
+//!    ([`cell::CellRays`]). `interpolateColor` on unclipped cells needs no ray at all: it shades
+//!    the outline with [`gouraud::Fan`].
+//! 5. Where the sort is not exact (non-convex meshes, broken cycles) pixels keep per-pixel runs
+//!    of face-adjacent cells ([`runs`]), composited by depth at the end: exact per pixel for any
+//!    mesh.
 //!
 //! Every pixel sees the same cells in the same order whatever the number of threads, so the image
 //! is bit-identical on any machine. Where the time goes: `docs/performance.md`.
@@ -60,7 +68,8 @@ pub const TILE: usize = 64;
 /// this: what lies behind can change the pixel by at most this fraction of its background.
 pub const EARLY_TERMINATION: f64 = 1e-6;
 
-/// A ray interval shorter than this fraction of the cell's depth extent only touches the cell.
+/// A ray interval shorter than this fraction of the cell's depth extent only touches the cell
+/// (for `test`'s surfaces, and near-plane-clipped cells).
 pub const TOUCH: f64 = 1e-9;
 
 /// The largest image, in pixels (2^27: a 2 GiB float framebuffer).

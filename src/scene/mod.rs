@@ -10,7 +10,7 @@
 mod camera;
 pub mod transform;
 
-pub use camera::{Camera, Projector, Ray, RayPlanes};
+pub use camera::{Camera, Projector, Ray, RayPlanes, SUBPIXEL, snap};
 pub use transform::Affine;
 
 use transform::{cross, dot, norm, sub};

@@ -4,7 +4,11 @@
 //! connected convex mesh MPVO (Williams 1992) orders them exactly: across every interior face
 //! the cell on the viewer's side comes later; a topological sort of that relation is a correct
 //! order. Meshes with concavities or holes need more: `mpvo` with depth priority is Williams'
-//! MPVONC heuristic (the thesis's `VRxConcaveSort`). Each strategy is one entry in [`SORTS`].
+//! MPVONC heuristic (the thesis's `VRxConcaveSort`); where it (or a broken cycle) leaves the
+//! order wrong along some ray, the renderer settles it per pixel ([`crate::render::runs`]), so
+//! the sort only has to be good, not exact. Faces are classified by the same exact screen
+//! predicate the renderer uses, and a mirroring transform flips them once. Each strategy is one
+//! entry in [`SORTS`].
 
 mod convex;
 mod mpvo;
