@@ -149,10 +149,16 @@ impl AsciiNumber for f64 {
     const TYPE: ScalarType = ScalarType::Double;
     fn parse(tok: &[u8]) -> Result<Self, String> {
         let v: f64 = real(tok, Self::TYPE)?;
-        if v.is_finite() {
-            Ok(v)
-        } else {
+        if !v.is_finite() {
             Err(format!("{} is out of range for double", show(tok)))
+        } else if v.abs() > super::MAX_MAGNITUDE {
+            Err(format!(
+                "{} is too large: values up to ±{:e} are accepted (sums and products of larger ones overflow while rendering)",
+                show(tok),
+                super::MAX_MAGNITUDE
+            ))
+        } else {
+            Ok(v)
         }
     }
 }

@@ -59,8 +59,10 @@ pub fn read_block<R: BufRead>(
                 info.file,
                 info.marker_line,
                 format!(
-                    "block @{} ({}): element {element} holds a non-finite value (NaN or infinity)",
-                    info.marker, info.what
+                    "block @{} ({}): element {element} holds a non-finite value (NaN or infinity) or one beyond ±{:e}",
+                    info.marker,
+                    info.what,
+                    super::MAX_MAGNITUDE
                 ),
             )
         })?;
@@ -73,7 +75,7 @@ pub fn read_block<R: BufRead>(
 }
 
 /// Appends the big-endian numbers in `bytes` to `out`; `Err(i)` if number `i` of this chunk is
-/// not finite.
+/// not finite (or, for doubles, beyond [`super::MAX_MAGNITUDE`]).
 fn decode(bytes: &[u8], out: &mut Values) -> Result<(), usize> {
     match out {
         Values::U8(v) => v.extend_from_slice(bytes),
@@ -105,7 +107,10 @@ fn decode(bytes: &[u8], out: &mut Values) -> Result<(), usize> {
                     .chunks_exact(8)
                     .map(|c| f64::from_be_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])),
             );
-            if let Some(i) = v[start..].iter().position(|x| !x.is_finite()) {
+            if let Some(i) = v[start..]
+                .iter()
+                .position(|x| !x.is_finite() || x.abs() > super::MAX_MAGNITUDE)
+            {
                 return Err(i);
             }
         }

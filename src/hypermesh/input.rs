@@ -4,7 +4,10 @@
 //! Streaming rather than reading the whole file keeps peak memory near the size of the final mesh;
 //! knowing how many bytes remain lets block readers refuse absurd counts before allocating.
 
-use std::io::{self, BufRead};
+use std::io::{self, BufRead, Read};
+
+/// The longest line a HyperMesh file may have (16 MiB: far beyond any header or data row).
+pub const MAX_LINE: usize = 16 << 20;
 
 pub struct Input<R> {
     reader: R,
@@ -37,15 +40,31 @@ impl<R: BufRead> Input<R> {
     }
 
     /// The next line without its `\n` (and a trailing `\r`) with its line number, or `None` at
-    /// end of input.
+    /// end of input. A line longer than [`MAX_LINE`] is an error (`/dev/zero` is not a header).
+    /// A UTF-8 byte-order mark at the start of the file is skipped.
     pub fn next_line(&mut self) -> io::Result<Option<(usize, &[u8])>> {
         self.buf.clear();
-        let n = self.reader.read_until(b'\n', &mut self.buf)?;
+        let n = (&mut self.reader)
+            .take(MAX_LINE as u64 + 1)
+            .read_until(b'\n', &mut self.buf)?;
         if n == 0 {
             return Ok(None);
         }
         self.consumed(n);
         self.line += 1;
+        if n > MAX_LINE && self.buf.last() != Some(&b'\n') {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidData,
+                format!(
+                    "line {} is longer than {} MiB: not a HyperMesh file",
+                    self.line,
+                    MAX_LINE >> 20
+                ),
+            ));
+        }
+        if self.line == 1 && self.buf.starts_with(b"\xEF\xBB\xBF") {
+            self.buf.drain(..3);
+        }
         if self.buf.last() == Some(&b'\n') {
             self.buf.pop();
         }

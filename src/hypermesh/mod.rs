@@ -38,6 +38,12 @@ mod types;
 pub mod write;
 
 pub use header::Encoding;
+
+/// The largest magnitude a double in a file may have. Rendering adds and multiplies values
+/// (interpolation, differences along a ray, squares in the quadratic rule); beyond ~1e154 such
+/// sums overflow to infinity and give NaN pixels, so larger values are refused at load, with
+/// their line.
+pub const MAX_MAGNITUDE: f64 = 1e150;
 pub use materials::{Material, MaterialValue, Materials};
 pub use read::{Geometry, HyperMeshFile, read, read_bytes, read_file};
 pub use types::{DataType, ElementKind, RawData, ScalarType, Values};

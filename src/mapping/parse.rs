@@ -70,6 +70,8 @@ pub fn parse_map<T: Registry + ?Sized>(
     file: &str,
 ) -> Result<(MapFile<T>, Vec<Warning>), ParseError> {
     let err = |line: usize, msg: String| ParseError::new(file, line, msg);
+    // A UTF-8 byte-order mark (as some Windows editors write) is not part of the title.
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let text = String::from_utf8_lossy(bytes);
     let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l));
     let title = T::KIND.title();
@@ -116,6 +118,16 @@ pub fn parse_map<T: Registry + ?Sized>(
             let mut numbers = Vec::new();
             for tok in content.split_whitespace() {
                 match parse_f64(tok) {
+                    Some(v) if v.abs() > crate::hypermesh::MAX_MAGNITUDE => {
+                        return Err(err(
+                            n,
+                            format!(
+                                "block @{}: {tok} is too large: numbers up to ±{:e} are accepted",
+                                block.marker,
+                                crate::hypermesh::MAX_MAGNITUDE
+                            ),
+                        ));
+                    }
                     Some(v) => numbers.push(v),
                     None => {
                         return Err(err(

@@ -128,6 +128,10 @@ pub struct Stats {
     pub per_pixel: bool,
     /// The most runs (separate stretches of mesh along one ray) a pixel held.
     pub most_runs: usize,
+    /// Pixels with a NaN or infinite channel (0 unless something overflowed: reported, not
+    /// hidden), and the first of them.
+    pub non_finite: usize,
+    pub first_non_finite: Option<(usize, usize)>,
     pub timing: Timing,
 }
 
@@ -142,6 +146,33 @@ pub struct Timing {
     pub bin: Duration,
     /// Scan conversion, integration and compositing of all tiles.
     pub draw: Duration,
+}
+
+/// The most pieces `exact` may cut one ray through the whole volume into.
+pub const MAX_PIECES: f64 = 1e6;
+
+/// Refuses an `exact` step so small that a ray through the volume would need more than
+/// [`MAX_PIECES`] pieces (the frame would take days and its cut lists terabytes): every cell
+/// interval is at most the diagonal of the transformed volume's bounding box.
+fn check_step(step: f64, eye_nodes: &[[f64; 3]]) -> Result<(), Error> {
+    if step <= 0.0 {
+        return Ok(());
+    }
+    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+    for p in eye_nodes {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+    if diagonal / step > MAX_PIECES {
+        return Err(Error::Invalid(format!(
+            "method exact: a step of {step:e} would cut a ray through the volume (diagonal {diagonal:.3e}) into more than {MAX_PIECES:e} pieces; use a step of at least {:.3e}, or 0 for one piece per cell",
+            diagonal / MAX_PIECES
+        )));
+    }
+    Ok(())
 }
 
 /// Checks an image size: at least 1 × 1 and at most [`MAX_PIXELS`].
@@ -183,6 +214,9 @@ pub fn render(
     let mirrored = to_eye.determinant() < 0.0;
     let projector = Projector::new(view.camera.as_ref(), bbox.size(), width, height)?;
     let eye_nodes: Vec<[f64; 3]> = mesh.nodes().par_iter().map(|&p| to_eye.apply(p)).collect();
+    if let Method::Exact(m) = &settings.method {
+        check_step(m.step, &eye_nodes)?;
+    }
     let screen: Vec<[f64; 2]> = eye_nodes.par_iter().map(|&p| projector.screen(p)).collect();
     let transfer = mapping.transfer(vol);
     let setup = started.elapsed();
@@ -322,6 +356,14 @@ pub fn render(
         }
     }
     let draw_time = drawing.elapsed();
+    let mut non_finite = 0;
+    let mut first_non_finite = None;
+    for (i, p) in fb.pixels.iter().enumerate() {
+        if !p.iter().all(|v| v.is_finite()) {
+            non_finite += 1;
+            first_non_finite.get_or_insert((i % width, i / width));
+        }
+    }
     Ok((
         fb,
         Stats {
@@ -333,6 +375,8 @@ pub fn render(
             cycle_cells: order.cycle_cells,
             per_pixel,
             most_runs,
+            non_finite,
+            first_non_finite,
             timing: Timing {
                 setup,
                 sort: sort_time,
@@ -696,7 +740,9 @@ fn render_tile<A: Approx>(
             };
             k += 1;
             let alpha = if has_line(x, y) { 1.0 } else { 1.0 - t };
-            out.push([rgb[0] as f32, rgb[1] as f32, rgb[2] as f32, alpha as f32]);
+            // Beyond the float range a channel saturates rather than becoming infinite.
+            let f = |v: f64| v.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32;
+            out.push([f(rgb[0]), f(rgb[1]), f(rgb[2]), alpha as f32]);
         }
     }
     (out, fragments, most)

@@ -85,7 +85,8 @@ impl Exact {
     fn pieces(&self, px: &Pixel) -> (usize, f64) {
         let length = (px.far - px.near) * px.speed;
         let pieces = if self.step > 0.0 && length > self.step {
-            (length / self.step).ceil() as usize
+            // Bounded by the check at the start of the render (`render::MAX_PIECES`).
+            (length / self.step).ceil().min(crate::render::MAX_PIECES) as usize
         } else {
             1
         };

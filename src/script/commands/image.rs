@@ -43,7 +43,11 @@ pub const SET_NR: CommandInfo = CommandInfo {
     run: |s: &mut Session, c: &Call| {
         c.expect(1..=1)?;
         let n = c.count(0, "number")?;
-        s.next_number = u32::try_from(n).map_err(|_| format!("set_nr: {n} is too large"))?;
+        // The largest number leaves room for the count-up after the render.
+        s.next_number = u32::try_from(n)
+            .ok()
+            .filter(|&n| n < u32::MAX)
+            .ok_or_else(|| format!("set_nr: {n} is too large (at most {})", u32::MAX - 1))?;
         Ok(String::new())
     },
 };

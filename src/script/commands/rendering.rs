@@ -87,6 +87,13 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
     for w in warnings {
         s.reporter.warn(&w.to_string());
     }
+    if s.next_number == u32::MAX {
+        return Err(format!(
+            "{}: the image numbers are used up (the last was {}): use 'set_nr' to start again",
+            c.info.name,
+            u32::MAX - 1
+        ));
+    }
     let path = numbered(&s.output, s.next_number);
     format_for(&path).map_err(|e| e.to_string())?;
     let settings = Settings {
@@ -107,6 +114,12 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
     let seconds = started.elapsed().as_secs_f64();
     write_image(&fb, &path).map_err(|e| e.to_string())?;
     s.next_number += 1;
+    if let Some((x, y)) = stats.first_non_finite {
+        s.reporter.warn(&format!(
+            "{}: {} pixels are NaN or infinite (the first at x {x}, y {y}): an overflow in the data or maps; please report it",
+            c.info.name, stats.non_finite
+        ));
+    }
     if stats.cycle_cells > 0 {
         // SPEC §4: detect and report. The image is still exact: the order is settled per pixel.
         s.reporter.info(&format!(
