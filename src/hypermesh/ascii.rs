@@ -385,7 +385,12 @@ mod tests {
                 .unwrap_err()
                 .contains("out of range")
         );
-        assert_eq!(<f64 as AsciiNumber>::parse(b"1e308"), Ok(1e308));
+        assert_eq!(<f64 as AsciiNumber>::parse(b"1e150"), Ok(1e150));
+        assert!(
+            <f64 as AsciiNumber>::parse(b"1e308")
+                .unwrap_err()
+                .contains("too large")
+        );
     }
 
     #[test]
