@@ -42,14 +42,15 @@ fn spec() -> impl Strategy<Value = Spec> {
         })
 }
 
-/// Deterministic values of any type from random bits (finite floats only).
+/// Deterministic values of any type from random bits (finite floats only, doubles within the
+/// accepted ±1e150).
 fn values(scalar: ScalarType, n: usize, seeds: &[u64]) -> Values {
     let bits = |i: usize| {
         seeds[i % seeds.len()].rotate_left(i as u32 * 7) ^ (i as u64).wrapping_mul(0x9E37_79B9)
     };
     let finite64 = |b: u64| {
         let v = f64::from_bits(b);
-        if v.is_finite() {
+        if v.is_finite() && v.abs() <= vorang::hypermesh::MAX_MAGNITUDE {
             v
         } else {
             (b >> 12) as f64 * 1e-3
