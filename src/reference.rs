@@ -249,7 +249,12 @@ pub fn render(vol: &Volume, mapping: &Mapping, view: &View, opts: &Options) -> V
             Some((g, h))
         })
         .collect();
-    let (size, bg) = (bbox.size(), background.pixels(width, height));
+    let (size, bg) = (
+        bbox.size(),
+        background
+            .pixels(width, height)
+            .expect("the reference renders small images"),
+    );
     // Eye-space ray of a pixel per SPEC §5, and its depth range.
     let eye_ray = |i: usize, j: usize| -> ([f64; 3], [f64; 3], f64, f64) {
         let (u, v) = (

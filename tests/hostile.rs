@@ -121,3 +121,50 @@ fn a_step_that_would_need_more_than_a_million_pieces_is_refused() {
         }
     }
 }
+
+#[test]
+fn an_image_too_large_for_memory_is_a_clear_error() {
+    let err = vorang::framebuffer::try_pixels([0.0f32; 4], 1 << 40, 1 << 20, "the framebuffer")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("not enough memory") && err.contains("GB"),
+        "{err}"
+    );
+}
+
+/// Under a 1.5 GB address-space limit a 11585² image (2.1 GB of float framebuffer, under the
+/// pixel cap) is refused with a message, not an allocation abort.
+#[cfg(target_os = "linux")]
+#[test]
+fn an_image_beyond_a_memory_limit_is_refused_without_an_abort() {
+    let mesh = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/data/two_tets_nodes.hmesh"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let script = format!(
+        "volume {mesh}; imagesize 11585 11585; linedraw off; output {}/big.png; render_btf",
+        dir.path().display()
+    );
+    let out = std::process::Command::new("sh")
+        .arg("-c")
+        .arg(format!(
+            "ulimit -v 1500000; exec {} -e '{script}'",
+            env!("CARGO_BIN_EXE_vorang")
+        ))
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(1), "{stderr}");
+    assert!(
+        stderr.contains("not enough memory for a 11585×11585 image"),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("panicked") && !stderr.contains("memory allocation of"));
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        0,
+        "no file written"
+    );
+}

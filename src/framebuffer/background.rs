@@ -54,8 +54,13 @@ impl BackgroundImage {
     }
 
     /// Bilinear resampling with pixel centres aligned (the image stretched over the output).
-    pub fn resample(&self, width: usize, height: usize) -> Vec<[f64; 3]> {
-        let mut out = Vec::with_capacity(width * height);
+    pub fn resample(
+        &self,
+        width: usize,
+        height: usize,
+    ) -> Result<Vec<[f64; 3]>, crate::error::Error> {
+        let mut out = super::try_pixels([0.0; 3], width, height, "the background image")?;
+        out.clear();
         let at = |x: usize, y: usize| self.rgb[y * self.width + x];
         for j in 0..height {
             let sy = ((j as f64 + 0.5) * self.height as f64 / height as f64 - 0.5)
@@ -75,15 +80,19 @@ impl BackgroundImage {
                 }));
             }
         }
-        out
+        Ok(out)
     }
 }
 
 impl Background {
     /// `I0` for every pixel of a `width × height` image.
-    pub fn pixels(&self, width: usize, height: usize) -> Vec<[f64; 3]> {
+    pub fn pixels(
+        &self,
+        width: usize,
+        height: usize,
+    ) -> Result<Vec<[f64; 3]>, crate::error::Error> {
         match self {
-            Background::Color(c) => vec![*c; width * height],
+            Background::Color(c) => super::try_pixels(*c, width, height, "the background"),
             Background::Image(img) => img.resample(width, height),
         }
     }

@@ -29,6 +29,15 @@ impl Framebuffer {
         }
     }
 
+    /// [`Framebuffer::new`], or a clear error where memory does not suffice.
+    pub fn try_new(width: usize, height: usize) -> Result<Framebuffer, crate::error::Error> {
+        Ok(Framebuffer {
+            width,
+            height,
+            pixels: try_pixels([0.0; 4], width, height, "the float framebuffer")?,
+        })
+    }
+
     /// The largest R, G or B value (what the thesis prints after a render to tune the
     /// brightness factor: above 1 the 8-bit output clips).
     pub fn max_channel(&self) -> f32 {
@@ -43,17 +52,38 @@ impl Framebuffer {
         self.pixels[y * self.width + x]
     }
 
-    /// The pixels as 8-bit RGBA, clipped to [0, 1] and rounded.
-    pub fn to_rgba8(&self) -> Vec<u8> {
-        self.pixels.iter().flat_map(|p| p.map(to_u8)).collect()
+    /// The pixels as 8-bit RGBA, clipped to [0, 1] and rounded (an error where memory does not
+    /// suffice for the copy).
+    pub fn to_rgba8(&self) -> Result<Vec<u8>, String> {
+        let mut out = self.bytes(4)?;
+        out.extend(self.pixels.iter().flat_map(|p| p.map(to_u8)));
+        Ok(out)
     }
 
     /// The pixels as 8-bit RGB.
-    pub fn to_rgb8(&self) -> Vec<u8> {
-        self.pixels
-            .iter()
-            .flat_map(|p| [to_u8(p[0]), to_u8(p[1]), to_u8(p[2])])
-            .collect()
+    pub fn to_rgb8(&self) -> Result<Vec<u8>, String> {
+        let mut out = self.bytes(3)?;
+        out.extend(
+            self.pixels
+                .iter()
+                .flat_map(|p| [to_u8(p[0]), to_u8(p[1]), to_u8(p[2])]),
+        );
+        Ok(out)
+    }
+
+    /// An empty buffer with room for `per_pixel` bytes per pixel, allocated fallibly.
+    pub fn bytes(&self, per_pixel: usize) -> Result<Vec<u8>, String> {
+        let n = self.pixels.len().saturating_mul(per_pixel);
+        let mut v = Vec::new();
+        v.try_reserve_exact(n).map_err(|_| {
+            format!(
+                "not enough memory to write a {}×{} image: its encoded copy needs {:.2} GB",
+                self.width,
+                self.height,
+                n as f64 / 1e9
+            )
+        })?;
+        Ok(v)
     }
 }
 
@@ -65,4 +95,25 @@ pub fn to_u8(v: f32) -> u8 {
     } else {
         (v.clamp(0.0, 1.0) * 255.0).round() as u8
     }
+}
+
+/// A per-pixel buffer of `width × height` copies of `value`, allocated fallibly: a clear error
+/// naming the size instead of an abort where memory does not suffice.
+pub fn try_pixels<T: Clone>(
+    value: T,
+    width: usize,
+    height: usize,
+    what: &str,
+) -> Result<Vec<T>, crate::error::Error> {
+    let n = width.saturating_mul(height);
+    let mut v = Vec::new();
+    if v.try_reserve_exact(n).is_err() {
+        let bytes = n as f64 * std::mem::size_of::<T>() as f64;
+        return Err(crate::error::Error::Invalid(format!(
+            "not enough memory for a {width}×{height} image: {what} needs {:.2} GB",
+            bytes / 1e9
+        )));
+    }
+    v.resize(n, value);
+    Ok(v)
 }

@@ -33,11 +33,14 @@ fn img<E: ImageEncoder>(
         .map_err(|e| e.to_string())
 }
 
-fn floats(fb: &Framebuffer, channels: usize) -> Vec<u8> {
-    fb.pixels
-        .iter()
-        .flat_map(|p| p[..channels].iter().flat_map(|v| v.to_ne_bytes()))
-        .collect()
+fn floats(fb: &Framebuffer, channels: usize) -> Result<Vec<u8>, String> {
+    let mut out = fb.bytes(4 * channels)?;
+    out.extend(
+        fb.pixels
+            .iter()
+            .flat_map(|p| p[..channels].iter().flat_map(|v| v.to_ne_bytes())),
+    );
+    Ok(out)
 }
 
 fn seekable<W: Write + Seek>(w: W) -> W {
@@ -59,7 +62,7 @@ pub const FORMATS: &[FormatInfo] = &[
             img(
                 image::codecs::tiff::TiffEncoder::new(seekable(w)),
                 fb,
-                &fb.to_rgba8(),
+                &fb.to_rgba8()?,
                 ExtendedColorType::Rgba8,
             )
         },
@@ -71,7 +74,7 @@ pub const FORMATS: &[FormatInfo] = &[
             img(
                 image::codecs::png::PngEncoder::new(w),
                 fb,
-                &fb.to_rgba8(),
+                &fb.to_rgba8()?,
                 ExtendedColorType::Rgba8,
             )
         },
@@ -83,7 +86,7 @@ pub const FORMATS: &[FormatInfo] = &[
             img(
                 image::codecs::bmp::BmpEncoder::new(w),
                 fb,
-                &fb.to_rgb8(),
+                &fb.to_rgb8()?,
                 ExtendedColorType::Rgb8,
             )
         },
@@ -95,7 +98,7 @@ pub const FORMATS: &[FormatInfo] = &[
             img(
                 image::codecs::tga::TgaEncoder::new(w),
                 fb,
-                &fb.to_rgba8(),
+                &fb.to_rgba8()?,
                 ExtendedColorType::Rgba8,
             )
         },
@@ -105,24 +108,21 @@ pub const FORMATS: &[FormatInfo] = &[
         summary: "portable pixmap (binary P6), 8-bit RGB",
         write: |fb, w| {
             let e = PnmEncoder::new(w).with_subtype(PnmSubtype::Pixmap(SampleEncoding::Binary));
-            img(e, fb, &fb.to_rgb8(), ExtendedColorType::Rgb8)
+            img(e, fb, &fb.to_rgb8()?, ExtendedColorType::Rgb8)
         },
     },
     FormatInfo {
         extensions: &["pgm"],
         summary: "portable graymap (binary P5), 8-bit luminance (Rec. 601 weights)",
         write: |fb, w| {
-            let luma: Vec<u8> = fb
-                .pixels
-                .iter()
-                .map(|p| {
-                    super::to_u8(
-                        0.299 * p[0].clamp(0.0, 1.0)
-                            + 0.587 * p[1].clamp(0.0, 1.0)
-                            + 0.114 * p[2].clamp(0.0, 1.0),
-                    )
-                })
-                .collect();
+            let mut luma = fb.bytes(1)?;
+            luma.extend(fb.pixels.iter().map(|p| {
+                super::to_u8(
+                    0.299 * p[0].clamp(0.0, 1.0)
+                        + 0.587 * p[1].clamp(0.0, 1.0)
+                        + 0.114 * p[2].clamp(0.0, 1.0),
+                )
+            }));
             let e = PnmEncoder::new(w).with_subtype(PnmSubtype::Graymap(SampleEncoding::Binary));
             img(e, fb, &luma, ExtendedColorType::L8)
         },
@@ -132,7 +132,7 @@ pub const FORMATS: &[FormatInfo] = &[
         summary: "portable arbitrary map, 8-bit RGB_ALPHA",
         write: |fb, w| {
             let e = PnmEncoder::new(w).with_subtype(PnmSubtype::ArbitraryMap);
-            img(e, fb, &fb.to_rgba8(), ExtendedColorType::Rgba8)
+            img(e, fb, &fb.to_rgba8()?, ExtendedColorType::Rgba8)
         },
     },
     FormatInfo {
@@ -142,7 +142,7 @@ pub const FORMATS: &[FormatInfo] = &[
             img(
                 image::codecs::jpeg::JpegEncoder::new_with_quality(w, 95),
                 fb,
-                &fb.to_rgb8(),
+                &fb.to_rgb8()?,
                 ExtendedColorType::Rgb8,
             )
         },
@@ -151,18 +151,15 @@ pub const FORMATS: &[FormatInfo] = &[
         extensions: &["gif"],
         summary: "GIF, 8-bit RGB (quantised to 256 colours)",
         write: |fb, w| {
-            let rgba: Vec<u8> = fb
-                .pixels
-                .iter()
-                .flat_map(|p| {
-                    [
-                        super::to_u8(p[0]),
-                        super::to_u8(p[1]),
-                        super::to_u8(p[2]),
-                        255,
-                    ]
-                })
-                .collect();
+            let mut rgba = fb.bytes(4)?;
+            rgba.extend(fb.pixels.iter().flat_map(|p| {
+                [
+                    super::to_u8(p[0]),
+                    super::to_u8(p[1]),
+                    super::to_u8(p[2]),
+                    255,
+                ]
+            }));
             img(
                 image::codecs::gif::GifEncoder::new(w),
                 fb,
@@ -178,7 +175,7 @@ pub const FORMATS: &[FormatInfo] = &[
             img(
                 image::codecs::ico::IcoEncoder::new(w),
                 fb,
-                &fb.to_rgba8(),
+                &fb.to_rgba8()?,
                 ExtendedColorType::Rgba8,
             )
         },
@@ -190,7 +187,7 @@ pub const FORMATS: &[FormatInfo] = &[
             img(
                 image::codecs::qoi::QoiEncoder::new(w),
                 fb,
-                &fb.to_rgba8(),
+                &fb.to_rgba8()?,
                 ExtendedColorType::Rgba8,
             )
         },
@@ -202,7 +199,7 @@ pub const FORMATS: &[FormatInfo] = &[
             img(
                 image::codecs::webp::WebPEncoder::new_lossless(w),
                 fb,
-                &fb.to_rgba8(),
+                &fb.to_rgba8()?,
                 ExtendedColorType::Rgba8,
             )
         },
@@ -214,7 +211,7 @@ pub const FORMATS: &[FormatInfo] = &[
             img(
                 image::codecs::hdr::HdrEncoder::new(w),
                 fb,
-                &floats(fb, 3),
+                &floats(fb, 3)?,
                 ExtendedColorType::Rgb32F,
             )
         },
@@ -226,7 +223,7 @@ pub const FORMATS: &[FormatInfo] = &[
             img(
                 image::codecs::openexr::OpenExrEncoder::new(seekable(w)),
                 fb,
-                &floats(fb, 4),
+                &floats(fb, 4)?,
                 ExtendedColorType::Rgba32F,
             )
         },

@@ -69,8 +69,8 @@ pub fn depth_buffer(
     projector: &Projector,
     width: usize,
     height: usize,
-) -> Vec<f64> {
-    let mut buf = vec![f64::INFINITY; width * height];
+) -> Result<Vec<f64>, crate::error::Error> {
+    let mut buf = crate::framebuffer::try_pixels(f64::INFINITY, width, height, "the line depths")?;
     let (dmin, dmax) = projector.depth();
     for &[a, b] in edges {
         let (p, q) = (eye[a as usize], eye[b as usize]);
@@ -125,5 +125,5 @@ pub fn depth_buffer(
             }
         }
     }
-    buf
+    Ok(buf)
 }

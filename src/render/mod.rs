@@ -252,11 +252,16 @@ pub fn render(
 
     let binning = Instant::now();
     let edges = lines::edges(vol, &settings.lines)?;
-    let line_depth = (!edges.is_empty())
-        .then(|| lines::depth_buffer(&edges, &eye_nodes, &projector, width, height));
+    let line_depth = if edges.is_empty() {
+        None
+    } else {
+        Some(lines::depth_buffer(
+            &edges, &eye_nodes, &projector, width, height,
+        )?)
+    };
     let background = match &settings.background {
         Background::Color(c) => Backdrop::Uniform(*c),
-        other => Backdrop::Image(other.pixels(width, height)),
+        other => Backdrop::Image(other.pixels(width, height)?),
     };
     let frame = Frame {
         vol,
@@ -316,7 +321,9 @@ pub fn render(
     // Tiles with the most cells first, so that no long tile is left for the end.
     let mut schedule: Vec<usize> = (0..total).collect();
     schedule.sort_by_key(|&t| std::cmp::Reverse(start[t + 1] - start[t]));
-    let tiles: Vec<(usize, Vec<[f32; 4]>, u64, usize)> = schedule
+    // The image, filled in as tiles finish: only the tiles in flight exist besides it.
+    let fb = std::sync::Mutex::new(Framebuffer::try_new(width, height)?);
+    let tiles: Vec<(u64, usize)> = schedule
         .into_par_iter()
         .with_max_len(1)
         .map(|t| {
@@ -334,27 +341,24 @@ pub fn render(
                 Method::InterpolateColor(m) => render_tile(&frame, m, o, pp, rect, list),
                 Method::Test(m) => render_tile(&frame, m, o, pp, rect, list),
             };
+            {
+                let mut fb = fb.lock().unwrap_or_else(|e| e.into_inner());
+                let w = rect.x1 - rect.x0;
+                for (row, chunk) in out.chunks(w).enumerate() {
+                    let at = (rect.y0 + row) * width + rect.x0;
+                    fb.pixels[at..at + w].copy_from_slice(chunk);
+                }
+            }
             let n = done.fetch_add(1, Ordering::Relaxed) + 1;
             if let Some(p) = progress {
                 p(n, total);
             }
-            (t, out, fragments, most)
+            (fragments, most)
         })
         .collect();
-
-    let mut fb = Framebuffer::new(width, height);
-    let mut fragments = 0;
-    let mut most_runs = 0;
-    for (t, pixels, n, most) in &tiles {
-        fragments += n;
-        most_runs = most_runs.max(*most);
-        let (x0, y0) = ((t % tx) * tile, (t / tx) * tile);
-        let w = (x0 + tile).min(width) - x0;
-        for (row, chunk) in pixels.chunks(w).enumerate() {
-            let at = (y0 + row) * width + x0;
-            fb.pixels[at..at + w].copy_from_slice(chunk);
-        }
-    }
+    let fb = fb.into_inner().unwrap_or_else(|e| e.into_inner());
+    let fragments = tiles.iter().map(|t| t.0).sum();
+    let most_runs = tiles.iter().map(|t| t.1).max().unwrap_or(0);
     let draw_time = drawing.elapsed();
     let mut non_finite = 0;
     let mut first_non_finite = None;
