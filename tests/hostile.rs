@@ -168,3 +168,42 @@ fn an_image_beyond_a_memory_limit_is_refused_without_an_abort() {
         "no file written"
     );
 }
+
+/// Two tetrahedra that interpenetrate without sharing a face (a bad merge) are reported by the
+/// render; touching bodies and valid non-convex meshes are not.
+#[test]
+fn interpenetrating_cells_are_reported_along_the_rays() {
+    let text = "# HyperMesh 3D ASCII 0.7\nnNodes = 8\nnTetrahedra = 2\nNodes { double[3] Coordinates } = @1\nTetrahedra { int[4] Nodes } = @2\n@1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0.2 0.2 0.2\n1.2 0.2 0.2\n0.2 1.2 0.2\n0.2 0.2 1.2\n@2\n1 2 3 4\n5 6 7 8\n";
+    let touching = "# HyperMesh 3D ASCII 0.7\nnNodes = 8\nnTetrahedra = 2\nNodes { double[3] Coordinates } = @1\nTetrahedra { int[4] Nodes } = @2\n@1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 0 0\n1 0 0\n0 1 0\n0 0 -1\n@2\n1 2 3 4\n5 6 7 8\n";
+    let cm = parse_map::<dyn ColorShading>(b"# VoRANG Colormap 1.0\nCONSTANT @1\n@1\n1 0 0\n", "c")
+        .unwrap()
+        .0;
+    let am = parse_map::<dyn AlphaShading>(b"# VoRANG Alphamap 1.0\nCONSTANT @1\n@1\n1\n", "a")
+        .unwrap()
+        .0;
+    for (text, overlapping) in [(text, true), (touching, false)] {
+        let vol = Volume::from_file(read_bytes(text.as_bytes(), "m").unwrap()).unwrap();
+        let mapping = Mapping::new(&cm, &am, &vol).unwrap().0;
+        let settings = Settings {
+            width: 16,
+            height: 16,
+            method: Method::parse(&["exact", "linear", "0", "1"]).unwrap(),
+            lines: LineDraw::Off,
+            ..Settings::default()
+        };
+        let view = vorang::scene::View {
+            transforms: vec![vorang::scene::TransformOp::Rotate {
+                axis: [1.0, 0.3, 0.0],
+                degrees: 20.0,
+            }],
+            ..View::default()
+        };
+        let (_, stats) = render(&vol, &mapping, &view, &settings, None).unwrap();
+        if overlapping {
+            assert!(stats.overlap_pixels > 10, "{}", stats.overlap_pixels);
+            assert_eq!(stats.overlap_cells, vec![(0, 1)]);
+        } else {
+            assert_eq!(stats.overlap_pixels, 0);
+        }
+    }
+}

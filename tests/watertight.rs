@@ -693,6 +693,7 @@ fn interlocked_rings_and_a_comb_match_the_reference() {
                 Order::BackToFront,
             );
             assert!(stats.per_pixel && stats.most_runs >= 2, "{name}");
+            assert_eq!(stats.overlap_pixels, 0, "{name}");
             let d = against_reference(&vol, &m, &view, (24, 24));
             assert!(d <= 1e-6, "{name}: {d:e}");
         }

@@ -132,6 +132,10 @@ pub struct Stats {
     /// hidden), and the first of them.
     pub non_finite: usize,
     pub first_non_finite: Option<(usize, usize)>,
+    /// Pixels whose ray passes cells that overlap along it (interpenetrating parts of the
+    /// mesh, integrated twice), and sorted example pairs of such cells.
+    pub overlap_pixels: usize,
+    pub overlap_cells: Vec<(u32, u32)>,
     pub timing: Timing,
 }
 
@@ -323,7 +327,7 @@ pub fn render(
     schedule.sort_by_key(|&t| std::cmp::Reverse(start[t + 1] - start[t]));
     // The image, filled in as tiles finish: only the tiles in flight exist besides it.
     let fb = std::sync::Mutex::new(Framebuffer::try_new(width, height)?);
-    let tiles: Vec<(u64, usize)> = schedule
+    let tiles: Vec<(u64, usize, (usize, Vec<(u32, u32)>))> = schedule
         .into_par_iter()
         .with_max_len(1)
         .map(|t| {
@@ -335,7 +339,7 @@ pub fn render(
             };
             let list = &binned[start[t] as usize..start[t + 1] as usize];
             let (o, pp) = (settings.order, per_pixel);
-            let (out, fragments, most) = match &settings.method {
+            let (out, fragments, most, overlaps) = match &settings.method {
                 Method::Exact(m) => render_tile(&frame, m, o, pp, rect, list),
                 Method::InterpolateCoeff(m) => render_tile(&frame, m, o, pp, rect, list),
                 Method::InterpolateColor(m) => render_tile(&frame, m, o, pp, rect, list),
@@ -353,12 +357,16 @@ pub fn render(
             if let Some(p) = progress {
                 p(n, total);
             }
-            (fragments, most)
+            (fragments, most, overlaps)
         })
         .collect();
     let fb = fb.into_inner().unwrap_or_else(|e| e.into_inner());
     let fragments = tiles.iter().map(|t| t.0).sum();
     let most_runs = tiles.iter().map(|t| t.1).max().unwrap_or(0);
+    let overlap_pixels = tiles.iter().map(|t| t.2.0).sum();
+    let mut overlap_cells: Vec<(u32, u32)> = tiles.iter().flat_map(|t| t.2.1.clone()).collect();
+    overlap_cells.sort_unstable();
+    overlap_cells.dedup();
     let draw_time = drawing.elapsed();
     let mut non_finite = 0;
     let mut first_non_finite = None;
@@ -381,6 +389,8 @@ pub fn render(
             most_runs,
             non_finite,
             first_non_finite,
+            overlap_pixels,
+            overlap_cells,
             timing: Timing {
                 setup,
                 sort: sort_time,
@@ -465,7 +475,7 @@ fn render_tile<A: Approx>(
     per_pixel: bool,
     rect: Rect,
     list: &[u32],
-) -> (Vec<[f32; 4]>, u64, usize) {
+) -> (Vec<[f32; 4]>, u64, usize, (usize, Vec<(u32, u32)>)) {
     let tw = rect.x1 - rect.x0;
     let n = tw * (rect.y1 - rect.y0);
     let (dmin, dmax) = f.projector.depth();
@@ -729,6 +739,7 @@ fn render_tile<A: Approx>(
         Pixels::Runs(r) => r.most,
         Pixels::Direct(_) => 1,
     };
+    let mut overlaps = (0, Vec::new());
     for y in rect.y0..rect.y1 {
         for x in rect.x0..rect.x1 {
             let bg = i0(x, y);
@@ -749,5 +760,8 @@ fn render_tile<A: Approx>(
             out.push([f(rgb[0]), f(rgb[1]), f(rgb[2]), alpha as f32]);
         }
     }
-    (out, fragments, most)
+    if let Pixels::Runs(r) = pixels {
+        overlaps = (r.overlaps, r.overlap_cells);
+    }
+    (out, fragments, most, overlaps)
 }

@@ -69,7 +69,18 @@ pub struct Runs {
     sorted: Vec<Run>,
     /// The most runs any pixel held (memory report).
     pub most: usize,
+    /// Pixels whose ray passes two runs that overlap in depth (interpenetrating cells), and a
+    /// few such pairs of cells (the runs' cells at the overlapping ends).
+    pub overlaps: usize,
+    pub overlap_cells: Vec<(u32, u32)>,
 }
+
+/// Runs overlapping by more than this fraction of their lengths interpenetrate (less is
+/// rounding, as where two bodies touch).
+const OVERLAP: f64 = 1e-9;
+
+/// At most this many example pairs are kept per tile.
+const EXAMPLES: usize = 64;
 
 impl Runs {
     pub fn new(pixels: usize) -> Runs {
@@ -79,6 +90,8 @@ impl Runs {
             arena: Vec::with_capacity(pixels + pixels / 4),
             sorted: Vec::new(),
             most: 0,
+            overlaps: 0,
+            overlap_cells: Vec::new(),
         }
     }
 
@@ -188,6 +201,20 @@ impl Runs {
         }
         self.sorted
             .sort_by(|a, b| a.near.total_cmp(&b.near).then(a.far.total_cmp(&b.far)));
+        // Disjoint stretches of mesh never overlap along a ray; cells that do interpenetrate.
+        let mut overlapped = false;
+        for w in self.sorted.windows(2) {
+            let (a, b) = (&w[0], &w[1]);
+            let tol = OVERLAP * ((a.far - a.near) + (b.far - b.near) + a.far.abs());
+            if b.near < a.far - tol {
+                overlapped = true;
+                if self.overlap_cells.len() < EXAMPLES {
+                    self.overlap_cells
+                        .push((a.back.min(b.front), a.back.max(b.front)));
+                }
+            }
+        }
+        self.overlaps += usize::from(overlapped);
         let mut acc = (i0, 1.0);
         for r in self.sorted.iter().rev() {
             let (i, t) = acc;

@@ -120,6 +120,15 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
             c.info.name, stats.non_finite
         ));
     }
+    if let Some((a, b)) = stats.overlap_cells.first() {
+        s.reporter.warn(&format!(
+            "{}: cells overlap other cells along {} rays (e.g. cells {} and {}): the mesh has interpenetrating parts, integrated twice there; 'vorang info --check' lists them",
+            c.info.name,
+            stats.overlap_pixels,
+            a + 1,
+            b + 1
+        ));
+    }
     if stats.cycle_cells > 0 {
         // SPEC §4: detect and report. The image is still exact: the order is settled per pixel.
         s.reporter.info(&format!(
