@@ -410,6 +410,7 @@ fn disjoint_bodies_and_anisotropic_cells_follow_the_rays() {
             Order::BackToFront,
         );
         assert!(stats.per_pixel && !stats.convex);
+        assert_eq!(stats.overlap_pixels, 0, "valid bodies do not overlap");
         let d = against_reference(&vol, &m, &view, (24, 24));
         assert!(d <= 1e-6, "{d:e}");
     }

@@ -327,7 +327,7 @@ pub fn render(
     schedule.sort_by_key(|&t| std::cmp::Reverse(start[t + 1] - start[t]));
     // The image, filled in as tiles finish: only the tiles in flight exist besides it.
     let fb = std::sync::Mutex::new(Framebuffer::try_new(width, height)?);
-    let tiles: Vec<(u64, usize, (usize, Vec<(u32, u32)>))> = schedule
+    let tiles: Vec<(u64, usize, Overlaps)> = schedule
         .into_par_iter()
         .with_max_len(1)
         .map(|t| {
@@ -459,6 +459,9 @@ fn composite(order: Order, a: &mut ([f64; 3], f64), (b, theta): ([f64; 3], f64))
     a.1 *= theta;
 }
 
+/// Pixels whose runs overlap along the ray, and example pairs of cells.
+type Overlaps = (usize, Vec<(u32, u32)>);
+
 /// How a tile keeps its pixels: composited straight in the sort's order (exact for MPVO on a
 /// convex mesh), or in per-pixel runs settled by depth ([`runs`]).
 enum Pixels {
@@ -475,7 +478,7 @@ fn render_tile<A: Approx>(
     per_pixel: bool,
     rect: Rect,
     list: &[u32],
-) -> (Vec<[f32; 4]>, u64, usize, (usize, Vec<(u32, u32)>)) {
+) -> (Vec<[f32; 4]>, u64, usize, Overlaps) {
     let tw = rect.x1 - rect.x0;
     let n = tw * (rect.y1 - rect.y0);
     let (dmin, dmax) = f.projector.depth();
