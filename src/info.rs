@@ -151,6 +151,40 @@ fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {
     }
 }
 
+/// `vorang info --check`: cells that interpenetrate without sharing a face (at most 200 exact
+/// pair tests per cell). The report line, and whether the mesh passed.
+pub fn check_overlaps(mesh: &crate::mesh::TetMesh) -> (String, bool) {
+    let budget = mesh.tet_count().saturating_mul(200).max(1000);
+    let r = crate::mesh::overlap::find_overlaps(mesh, budget, 5);
+    let scope = if r.complete {
+        format!("{} candidate pairs tested", r.tested)
+    } else {
+        format!(
+            "stopped after {} candidate pairs (the budget of 200 per cell): the check is incomplete",
+            r.tested
+        )
+    };
+    if r.found == 0 {
+        return (
+            format!("check        no interpenetrating cells ({scope})\n"),
+            true,
+        );
+    }
+    let examples: Vec<String> = r
+        .pairs
+        .iter()
+        .map(|(a, b)| format!("{} and {}", a + 1, b + 1))
+        .collect();
+    (
+        format!(
+            "check        {} pairs of cells interpenetrate, e.g. cells {} ({scope}): overlapping parts are integrated twice\n",
+            r.found,
+            examples.join(", ")
+        ),
+        false,
+    )
+}
+
 #[cfg(test)]
 mod tests {
     use super::num;

@@ -33,6 +33,10 @@ enum Command {
     Info {
         /// A HyperMesh file (ASCII or BINARY; volume or data-only).
         file: PathBuf,
+        /// Also look for cells that interpenetrate without sharing a face (exact tests on
+        /// candidate pairs from a grid, at most 200 per cell); exit status 1 if any are found.
+        #[arg(long)]
+        check: bool,
     },
     /// Convert a HyperMesh file between ASCII and BINARY, full and small layout (bin2Asc).
     Convert {
@@ -77,19 +81,30 @@ fn print_warnings(w: &[vorang::Warning]) {
     }
 }
 
-fn data_command(command: Command) -> Result<(), Error> {
+/// Runs a subcommand; `Ok(false)` where it found problems to report by the exit status.
+fn data_command(command: Command) -> Result<bool, Error> {
     match command {
-        Command::Info { file } => {
+        Command::Info { file, check } => {
             let f = hypermesh::read_file(&file)?;
             print_warnings(&f.warnings);
+            let mut clean = true;
             let text = if f.geometry.is_some() {
                 let encoding = format!("{} {}", f.encoding.keyword(), f.version);
                 let vol = Volume::from_file(f)?;
-                info::describe_volume(&vol, &encoding)
+                let mut text = info::describe_volume(&vol, &encoding);
+                if check {
+                    let (line, ok) = info::check_overlaps(&vol.mesh);
+                    text.push_str(&line);
+                    clean = ok;
+                }
+                text
             } else {
                 info::describe_data_file(&f)
             };
             print!("{text}");
+            if !clean {
+                return Ok(false);
+            }
         }
         Command::Convert {
             input,
@@ -156,7 +171,7 @@ fn data_command(command: Command) -> Result<(), Error> {
             );
         }
     }
-    Ok(())
+    Ok(true)
 }
 
 /// `file:line: message`, then Tcl's trace.
@@ -218,7 +233,8 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     if let Some(command) = cli.command {
         return match data_command(command) {
-            Ok(()) => ExitCode::SUCCESS,
+            Ok(true) => ExitCode::SUCCESS,
+            Ok(false) => ExitCode::FAILURE,
             Err(e) => {
                 eprintln!("vorang: {e}");
                 ExitCode::FAILURE

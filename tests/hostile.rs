@@ -207,3 +207,33 @@ fn interpenetrating_cells_are_reported_along_the_rays() {
         }
     }
 }
+
+/// `vorang info --check` finds interpenetrating cells without rendering and says so in its
+/// exit status; a valid mesh passes.
+#[test]
+fn info_check_finds_interpenetrating_cells() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("overlap.hmesh");
+    std::fs::write(&bad, "# HyperMesh 3D ASCII 0.7\nnNodes = 8\nnTetrahedra = 2\nNodes { double[3] Coordinates } = @1\nTetrahedra { int[4] Nodes } = @2\n@1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0.2 0.2 0.2\n1.2 0.2 0.2\n0.2 1.2 0.2\n0.2 0.2 1.2\n@2\n1 2 3 4\n5 6 7 8\n").unwrap();
+    let good = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/examples/farbraum/farbraum.hmesh"
+    );
+    let run = |path: &std::path::Path| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_vorang"))
+            .args(["info", "--check"])
+            .arg(path)
+            .output()
+            .unwrap()
+    };
+    let out = run(&bad);
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert_eq!(out.status.code(), Some(1), "{text}");
+    assert!(
+        text.contains("1 pairs of cells interpenetrate, e.g. cells 1 and 2"),
+        "{text}"
+    );
+    let out = run(std::path::Path::new(good));
+    assert!(out.status.success());
+    assert!(String::from_utf8_lossy(&out.stdout).contains("no interpenetrating cells"));
+}

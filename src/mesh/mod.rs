@@ -7,6 +7,7 @@
 mod adjacency;
 pub mod generate;
 mod geometry;
+pub mod overlap;
 
 pub use geometry::{Aabb, barycentric, barycentric_gradients, orientation, tet_volume};
 
