@@ -148,6 +148,8 @@ fn an_image_beyond_a_memory_limit_is_refused_without_an_abort() {
         dir.path().display()
     );
     let out = std::process::Command::new("sh")
+        // Few threads: each reserves address space of its own (stack, allocator arena).
+        .env("RAYON_NUM_THREADS", "2")
         .arg("-c")
         .arg(format!(
             "ulimit -v 1500000; exec {} -e '{script}'",
