@@ -9,6 +9,17 @@ use vorang::scene::View;
 
 const TWO_TETS: &str = "# HyperMesh 3D ASCII 0.7\nnNodes = 5\nnTetrahedra = 2\nNodes { double[3] Coordinates } = @1\nTetrahedra { int[4] Nodes } = @2\nNodeData { double } = @3\nField \"s\" { double } = Linear(@3)\n@1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n1 1 1\n@2\n1 2 3 4\n2 3 4 5\n@3\n";
 
+/// Constant red emission and absorption 1.
+fn red_absorber(vol: &Volume) -> Mapping {
+    let cm = parse_map::<dyn ColorShading>(b"# VoRANG Colormap 1.0\nCONSTANT @1\n@1\n1 0 0\n", "c")
+        .unwrap()
+        .0;
+    let am = parse_map::<dyn AlphaShading>(b"# VoRANG Alphamap 1.0\nCONSTANT @1\n@1\n1\n", "a")
+        .unwrap()
+        .0;
+    Mapping::new(&cm, &am, vol).unwrap().0
+}
+
 fn mesh_with(values: [&str; 5]) -> String {
     format!("{TWO_TETS}{}\n", values.join("\n"))
 }
@@ -97,13 +108,7 @@ fn extreme_but_accepted_values_render_finite_pixels() {
 fn a_step_that_would_need_more_than_a_million_pieces_is_refused() {
     let text = mesh_with(["0", "1", "0", "1", "0.5"]);
     let vol = Volume::from_file(read_bytes(text.as_bytes(), "m").unwrap()).unwrap();
-    let cm = parse_map::<dyn ColorShading>(b"# VoRANG Colormap 1.0\nCONSTANT @1\n@1\n1 0 0\n", "c")
-        .unwrap()
-        .0;
-    let am = parse_map::<dyn AlphaShading>(b"# VoRANG Alphamap 1.0\nCONSTANT @1\n@1\n1\n", "a")
-        .unwrap()
-        .0;
-    let mapping = Mapping::new(&cm, &am, &vol).unwrap().0;
+    let mapping = red_absorber(&vol);
     for step in ["1e-20", "1e-15", "1e-10", "1e-300"] {
         for rule in ["linear", "constEA"] {
             let words = ["exact", rule, step, "1"];
@@ -177,15 +182,9 @@ fn an_image_beyond_a_memory_limit_is_refused_without_an_abort() {
 fn interpenetrating_cells_are_reported_along_the_rays() {
     let text = "# HyperMesh 3D ASCII 0.7\nnNodes = 8\nnTetrahedra = 2\nNodes { double[3] Coordinates } = @1\nTetrahedra { int[4] Nodes } = @2\n@1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0.2 0.2 0.2\n1.2 0.2 0.2\n0.2 1.2 0.2\n0.2 0.2 1.2\n@2\n1 2 3 4\n5 6 7 8\n";
     let touching = "# HyperMesh 3D ASCII 0.7\nnNodes = 8\nnTetrahedra = 2\nNodes { double[3] Coordinates } = @1\nTetrahedra { int[4] Nodes } = @2\n@1\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n0 0 0\n1 0 0\n0 1 0\n0 0 -1\n@2\n1 2 3 4\n5 6 7 8\n";
-    let cm = parse_map::<dyn ColorShading>(b"# VoRANG Colormap 1.0\nCONSTANT @1\n@1\n1 0 0\n", "c")
-        .unwrap()
-        .0;
-    let am = parse_map::<dyn AlphaShading>(b"# VoRANG Alphamap 1.0\nCONSTANT @1\n@1\n1\n", "a")
-        .unwrap()
-        .0;
     for (text, overlapping) in [(text, true), (touching, false)] {
         let vol = Volume::from_file(read_bytes(text.as_bytes(), "m").unwrap()).unwrap();
-        let mapping = Mapping::new(&cm, &am, &vol).unwrap().0;
+        let mapping = red_absorber(&vol);
         let settings = Settings {
             width: 16,
             height: 16,

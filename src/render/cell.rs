@@ -164,19 +164,7 @@ impl CellRays {
     /// The interval of the ray through screen position (x, y), or `None`.
     #[inline(always)]
     pub fn interval(&self, x: f64, y: f64) -> Option<Interval> {
-        let (a, b) = (&self.a, &self.b);
-        let a = [
-            a[0][0] + a[0][1] * x + a[0][2] * y,
-            a[1][0] + a[1][1] * x + a[1][2] * y,
-            a[2][0] + a[2][1] * x + a[2][2] * y,
-            a[3][0] + a[3][1] * x + a[3][2] * y,
-        ];
-        let b = [
-            b[0][0] + b[0][1] * x + b[0][2] * y,
-            b[1][0] + b[1][1] * x + b[1][2] * y,
-            b[2][0] + b[2][1] * x + b[2][2] * y,
-            b[3][0] + b[3][1] * x + b[3][2] * y,
-        ];
+        let (a, b) = self.line(x, y);
         clip(a, b, &self.tol)
     }
 }
