@@ -83,7 +83,6 @@ pub fn find_overlaps(mesh: &TetMesh, budget: usize, limit: usize) -> OverlapRepo
             }
         }
     }
-    let tets = mesh.tets();
     let neighbors = mesh.neighbors();
     let tested = AtomicUsize::new(0);
     let exhausted = AtomicBool::new(false);
@@ -105,7 +104,7 @@ pub fn find_overlaps(mesh: &TetMesh, budget: usize, limit: usize) -> OverlapRepo
                         continue;
                     }
                     // Face neighbours touch along their shared face only.
-                    if neighbors[a as usize].contains(&b) && tets[a as usize] != tets[b as usize] {
+                    if neighbors[a as usize].contains(&b) {
                         continue;
                     }
                     if tested.fetch_add(1, Ordering::Relaxed) >= budget {

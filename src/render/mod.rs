@@ -162,14 +162,8 @@ fn check_step(step: f64, eye_nodes: &[[f64; 3]]) -> Result<(), Error> {
     if step <= 0.0 {
         return Ok(());
     }
-    let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-    for p in eye_nodes {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    let diagonal = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+    let size = crate::mesh::Aabb::of_points(eye_nodes).size();
+    let diagonal = (size[0] * size[0] + size[1] * size[1] + size[2] * size[2]).sqrt();
     if diagonal / step > MAX_PIECES {
         return Err(Error::Invalid(format!(
             "method exact: a step of {step:e} would cut a ray through the volume (diagonal {diagonal:.3e}) into more than {MAX_PIECES:e} pieces; use a step of at least {:.3e}, or 0 for one piece per cell",
@@ -364,7 +358,7 @@ pub fn render(
     let fragments = tiles.iter().map(|t| t.0).sum();
     let most_runs = tiles.iter().map(|t| t.1).max().unwrap_or(0);
     let overlap_pixels = tiles.iter().map(|t| t.2.0).sum();
-    let mut overlap_cells: Vec<(u32, u32)> = tiles.iter().flat_map(|t| t.2.1.clone()).collect();
+    let mut overlap_cells: Vec<(u32, u32)> = tiles.into_iter().flat_map(|t| t.2.1).collect();
     overlap_cells.sort_unstable();
     overlap_cells.dedup();
     let draw_time = drawing.elapsed();
@@ -552,8 +546,12 @@ fn render_tile<A: Approx>(
         // reaching in front of a perspective near plane keeps the per-cell clip.
         // The fan of a screen-space method needs them only to chain runs.
         let fan_only = A::SCREEN_SPACE && unclipped && !per_pixel;
-        let faces = (fp.projection.is_some() && !fan_only)
-            .then(|| CellFaces::new(tets[cell], &screen, &depth, f.entry_sign, perspective));
+        let cell_faces = || {
+            fp.projection
+                .is_some()
+                .then(|| CellFaces::new(tets[cell], &screen, &depth, f.entry_sign, perspective))
+        };
+        let faces = if fan_only { None } else { cell_faces() };
         let nb = &neighbors[cell];
         // Whether a neighbour came before this cell in the compositing order.
         let earlier = |n: u32| n != NO_NEIGHBOR && f.rank[n as usize] < f.rank[cell];
@@ -604,16 +602,8 @@ fn render_tile<A: Approx>(
                 prepared = Some(c);
             }
         }
-        let faces = match faces {
-            None if fan_only && fp.projection.is_some() => Some(CellFaces::new(
-                tets[cell],
-                &screen,
-                &depth,
-                f.entry_sign,
-                perspective,
-            )),
-            other => other,
-        };
+        // No fan after all (a method without one): per ray, from the faces.
+        let faces = if fan_only { cell_faces() } else { faces };
         let link = |iv: &Interval| {
             let entry = if faces.is_none() && iv.near <= dmin {
                 NO_NEIGHBOR
@@ -758,8 +748,16 @@ fn render_tile<A: Approx>(
             };
             k += 1;
             let alpha = if has_line(x, y) { 1.0 } else { 1.0 - t };
-            // Beyond the float range a channel saturates rather than becoming infinite.
-            let f = |v: f64| v.clamp(-f64::from(f32::MAX), f64::from(f32::MAX)) as f32;
+            // A finite value beyond the float range saturates; NaN and infinities stay, to be
+            // counted and reported.
+            let f = |v: f64| {
+                let m = f64::from(f32::MAX);
+                if v.is_finite() {
+                    v.clamp(-m, m) as f32
+                } else {
+                    v as f32
+                }
+            };
             out.push([f(rgb[0]), f(rgb[1]), f(rgb[2]), alpha as f32]);
         }
     }

@@ -217,15 +217,7 @@ impl Runs {
         self.overlaps += usize::from(overlapped);
         let mut acc = (i0, 1.0);
         for r in self.sorted.iter().rev() {
-            let (i, t) = acc;
-            acc = (
-                [
-                    i[0] * r.theta + r.b[0],
-                    i[1] * r.theta + r.b[1],
-                    i[2] * r.theta + r.b[2],
-                ],
-                t * r.theta,
-            );
+            acc = compose((r.b, r.theta), acc);
         }
         acc
     }
