@@ -7,6 +7,7 @@
 
 pub mod const_ea;
 pub mod linear;
+pub mod linear_lanes;
 mod trapez;
 mod weighted_const_ea;
 

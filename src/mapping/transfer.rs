@@ -134,6 +134,36 @@ impl Transfer1D {
         ])
     }
 
+    /// Piece `piece` as affine functions of `s`: `(from, base, slope)` with
+    /// `[η_r, η_g, η_b, χ] = base + (s − from)·slope`, the χ factor of ABSORPTION_WEIGHTED
+    /// already applied; `None` where η is quadratic in `s` ([`Transfer1D::quadratic_eta`]).
+    pub fn affine_piece(&self, piece: usize) -> Option<(f64, [f64; 4], [f64; 4])> {
+        if self.quadratic_eta() {
+            return None;
+        }
+        let p = &self.pieces[piece.min(self.pieces.len() - 1)];
+        let (mut base, mut slope) = (p.base, p.slope);
+        if self.weighted {
+            // χ is constant here (otherwise η would be quadratic).
+            for k in 0..3 {
+                base[k] *= p.base[3];
+                slope[k] *= p.base[3];
+            }
+        }
+        Some((p.from, base, slope))
+    }
+
+    /// The range of `s` piece `p` covers: `[lo, hi)`, ±∞ for the outer pieces.
+    pub fn piece_range(&self, p: usize) -> (f64, f64) {
+        let lo = if p == 0 {
+            f64::NEG_INFINITY
+        } else {
+            self.knots[p - 1]
+        };
+        let hi = self.knots.get(p).copied().unwrap_or(f64::INFINITY);
+        (lo, hi)
+    }
+
     /// `(η, χ)` at `s` (NaN maps like the tables: to their first row).
     #[inline]
     pub fn eval(&self, s: f64) -> ([f64; 3], f64) {

@@ -142,6 +142,21 @@ impl CellRays {
         CellRays { a, b, tol }
     }
 
+    /// `Σ v_i·λ_i` along the rays of an orthographic view as one affine function of the pixel
+    /// position and the depth: `[c, c_x, c_y, c_τ]` with the value `c + c_x·x + c_y·y + c_τ·τ`
+    /// (for orthographic rays `b_i` does not depend on x and y).
+    pub fn ortho_affine(&self, v: &[f64; 4]) -> [f64; 4] {
+        let dot = |m: &[[f64; 3]; 4], k: usize| {
+            m[0][k] * v[0] + m[1][k] * v[1] + m[2][k] * v[2] + m[3][k] * v[3]
+        };
+        [
+            dot(&self.a, 0),
+            dot(&self.a, 1),
+            dot(&self.a, 2),
+            dot(&self.b, 0),
+        ]
+    }
+
     /// λ along the ray through screen position (x, y): `a_i + τ·b_i`.
     #[inline(always)]
     pub fn line(&self, x: f64, y: f64) -> ([f64; 4], [f64; 4]) {

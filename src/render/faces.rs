@@ -278,6 +278,22 @@ impl CellFaces {
         if self.perspective { 1.0 / z } else { z }
     }
 
+    /// [`CellFaces::depth`] for the pixels `x0..x1` of the row at screen y = `py`, appended to
+    /// `out`: the same expression, so the same bits, without the per-pixel branches.
+    #[inline]
+    pub fn depths(&self, f: usize, py: f64, x0: usize, x1: usize, out: &mut Vec<f64>) {
+        let face = &self.faces[f];
+        if face.sliver || self.perspective {
+            out.extend((x0..x1).map(|x| self.depth(f, [x as f64 + 0.5, py])));
+            return;
+        }
+        let [z0, gx, gy] = face.plane;
+        let a = face.s[0];
+        let dy = gy * (py - a[1]);
+        let (lo, hi) = (face.zmin, face.zmax);
+        out.extend((x0..x1).map(|x| (z0 + gx * ((x as f64 + 0.5) - a[0]) + dy).clamp(lo, hi)));
+    }
+
     /// Prepares row `y` of the footprint, pixels `x0..x1`: where each inner edge splits it
     /// (exact predicates, a few tests per edge and row instead of per pixel).
     #[inline]
@@ -339,6 +355,36 @@ impl CellFaces {
             entry_face,
             exit_face,
         })
+    }
+}
+
+impl CellFaces {
+    /// Row `y`, pixels `from..to`, as runs `x0..x1` with one entry and one exit face each:
+    /// `f(x0, x1, entry_face, exit_face)`. The face choice only changes where an inner edge
+    /// splits the row, so it is settled once per run ([`CellFaces::hit_in_row`] at its first
+    /// pixel) — the same faces, hence the same depths, as pixel by pixel.
+    #[inline]
+    pub fn spans(
+        &self,
+        row: &Row,
+        y: usize,
+        from: usize,
+        to: usize,
+        mut f: impl FnMut(usize, usize, usize, usize),
+    ) {
+        let mut x = from;
+        while x < to {
+            let mut next = to;
+            for e in 0..6 {
+                if self.needed & (1 << e) != 0 && row.split[e] > x && row.split[e] < next {
+                    next = row.split[e];
+                }
+            }
+            if let Some(h) = self.hit_in_row(row, x, y) {
+                f(x, next, h.entry_face, h.exit_face);
+            }
+            x = next;
+        }
     }
 }
 

@@ -30,6 +30,8 @@ pub struct Frame<'a> {
     pub entry_sign: i8,
     /// Each cell's place in the compositing order (empty unless the order is settled per pixel).
     pub rank: Vec<u32>,
+    /// Whether cells may take the SIMD span kernels ([`super::Settings::span_kernels`]).
+    pub span_kernels: bool,
 }
 
 impl Frame<'_> {

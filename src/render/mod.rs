@@ -34,6 +34,7 @@ pub mod lines;
 pub mod project;
 pub mod raster;
 pub mod runs;
+pub mod span;
 
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
@@ -94,6 +95,9 @@ pub struct Settings {
     pub background: Background,
     /// Edge length of the screen tiles rendered in parallel (any value gives the same image).
     pub tile: usize,
+    /// Let whole cells go through the SIMD span kernels where they apply ([`span`]); off, every
+    /// pixel takes the scalar reference path (for tests and comparisons).
+    pub span_kernels: bool,
 }
 
 impl Default for Settings {
@@ -107,6 +111,7 @@ impl Default for Settings {
             lines: LineDraw::All,
             background: Background::default(),
             tile: TILE,
+            span_kernels: true,
         }
     }
 }
@@ -119,6 +124,8 @@ pub struct Stats {
     pub drawn: usize,
     /// Pixel–cell pairs integrated (ray segments).
     pub fragments: u64,
+    /// Of those, the ones integrated in the SIMD span kernels ([`span`]).
+    pub lane_fragments: u64,
     /// The visibility sort used and whether the mesh is convex.
     pub sort: &'static str,
     pub convex: bool,
@@ -274,6 +281,7 @@ pub fn render(
         line_depth,
         entry_sign: faces::entry_sign(mirrored),
         rank,
+        span_kernels: settings.span_kernels,
     };
 
     // Bin the ordered cells into tiles (CSR: tile → cells in order).
@@ -321,7 +329,7 @@ pub fn render(
     schedule.sort_by_key(|&t| std::cmp::Reverse(start[t + 1] - start[t]));
     // The image, filled in as tiles finish: only the tiles in flight exist besides it.
     let fb = std::sync::Mutex::new(Framebuffer::try_new(width, height)?);
-    let tiles: Vec<(u64, usize, Overlaps)> = schedule
+    let tiles: Vec<([u64; 2], usize, Overlaps)> = schedule
         .into_par_iter()
         .with_max_len(1)
         .map(|t| {
@@ -355,7 +363,8 @@ pub fn render(
         })
         .collect();
     let fb = fb.into_inner().unwrap_or_else(|e| e.into_inner());
-    let fragments = tiles.iter().map(|t| t.0).sum();
+    let fragments = tiles.iter().map(|t| t.0[0]).sum();
+    let lane_fragments = tiles.iter().map(|t| t.0[1]).sum();
     let most_runs = tiles.iter().map(|t| t.1).max().unwrap_or(0);
     let overlap_pixels = tiles.iter().map(|t| t.2.0).sum();
     let mut overlap_cells: Vec<(u32, u32)> = tiles.into_iter().flat_map(|t| t.2.1).collect();
@@ -376,6 +385,7 @@ pub fn render(
             cells: mesh.tet_count(),
             drawn,
             fragments,
+            lane_fragments,
             sort: sorter.name,
             convex,
             cycle_cells: order.cycle_cells,
@@ -464,7 +474,7 @@ enum Pixels {
 }
 
 /// Renders the cells `list` (in compositing order) into one tile; also returns the number of
-/// pixel–cell pairs integrated and the most runs one pixel held.
+/// pixel–cell pairs integrated (all, and in the span kernels) and the most runs one pixel held.
 fn render_tile<A: Approx>(
     f: &Frame,
     method: &A,
@@ -472,7 +482,7 @@ fn render_tile<A: Approx>(
     per_pixel: bool,
     rect: Rect,
     list: &[u32],
-) -> (Vec<[f32; 4]>, u64, usize, Overlaps) {
+) -> (Vec<[f32; 4]>, [u64; 2], usize, Overlaps) {
     let tw = rect.x1 - rect.x0;
     let n = tw * (rect.y1 - rect.y0);
     let (dmin, dmax) = f.projector.depth();
@@ -516,6 +526,10 @@ fn render_tile<A: Approx>(
         scratch.faces = vec![[f64::NAN; 2]; n];
     }
     let mut fragments = 0u64;
+    // Orthographic, composited in the sort's order: cells may go through the span kernel.
+    let span_frame = f.span_kernels && A::SPAN && !per_pixel && !f.projector.is_perspective();
+    let mut span_buf = span::SpanBuffer::default();
+    let mut lane_fragments = 0u64;
     let tets = f.vol.mesh.tets();
     let neighbors = f.vol.mesh.neighbors();
     let perspective = f.projector.is_perspective();
@@ -556,6 +570,46 @@ fn render_tile<A: Approx>(
         // Whether a neighbour came before this cell in the compositing order.
         let earlier = |n: u32| n != NO_NEIGHBOR && f.rank[n as usize] < f.rank[cell];
         let hull = fp.hull();
+        // Span kernel: the whole cell's pixels at once.
+        if span_frame && unclipped {
+            if let (Some((v, count)), Some(cf)) = (hull, &faces) {
+                let rays = CellRays::new(&ec, &f.projector);
+                if let Some(sc) = method.span_cell(f, cell, &rays, hi - lo, &mut scratch) {
+                    let Pixels::Direct(acc) = &mut pixels else {
+                        unreachable!("span kernels composite directly")
+                    };
+                    span_buf.clear();
+                    rasterize_convex_rows(&v[..count], rect, |y, from, to| {
+                        let row = cf.row(y, from, to);
+                        let py = y as f64 + 0.5;
+                        let first = (y - rect.y0) * tw;
+                        cf.spans(&row, y, from, to, |x0, x1, entry, exit| {
+                            span_buf.push_run(first + x0 - rect.x0, x0, x1, py, |x0, x1, out| {
+                                cf.depths(entry, py, x0, x1, &mut out.near);
+                                cf.depths(exit, py, x0, x1, &mut out.far);
+                            });
+                        });
+                    });
+                    if sc.count > 1 {
+                        span_buf.reset();
+                    }
+                    for piece in sc.pieces() {
+                        span::shade(piece, &mut span_buf);
+                    }
+                    let [r, g, b] = &span_buf.b;
+                    for (i, &slot) in span_buf.slot.iter().enumerate() {
+                        let a = &mut acc[slot as usize];
+                        if order == Order::FrontToBack && a.1 < EARLY_TERMINATION {
+                            continue;
+                        }
+                        fragments += 1;
+                        lane_fragments += 1;
+                        composite(order, a, ([r[i], g[i], b[i]], span_buf.theta[i]));
+                    }
+                    continue;
+                }
+            }
+        }
         let mut prepared: Option<A::Cell> = None;
         // Screen-space methods on unclipped cells: Gouraud shading over the outline.
         if A::SCREEN_SPACE && unclipped {
@@ -764,5 +818,5 @@ fn render_tile<A: Approx>(
     if let Pixels::Runs(r) = pixels {
         overlaps = (r.overlaps, r.overlap_cells);
     }
-    (out, fragments, most, overlaps)
+    (out, [fragments, lane_fragments], most, overlaps)
 }

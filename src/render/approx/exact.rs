@@ -12,11 +12,13 @@
 //! the result (to 1e-9); `step > 0` adds uniform sub-steps on top.
 
 use super::{Approx, Method, MethodInfo, Pixel, Scratch, accumulate, non_negative, rule};
+use crate::integrate::linear_lanes::terms_for;
 use crate::integrate::{Contribution, RuleInfo, Segment};
 use crate::mapping::{Lines, Shape, Transfer1D};
-use crate::render::cell::EyeCell;
+use crate::render::cell::{CellRays, EyeCell};
 use crate::render::footprint::Footprint;
 use crate::render::frame::Frame;
+use crate::render::span::{Clip, MAX_PIECES, SpanCell, SpanPieces};
 
 pub const INFO: MethodInfo = MethodInfo {
     name: "exact",
@@ -239,6 +241,76 @@ impl Exact {
 impl Approx for Exact {
     /// The transfer function's field at the cell's nodes (zeros without one).
     type Cell = [f64; 4];
+
+    const SPAN: bool = true;
+
+    /// No sub-steps and the `linear` rule: inside each piece of the merged table η and χ are
+    /// affine in the position. A cell whose field spans several pieces is cut along every ray
+    /// where the field crosses a knot (the same cuts as [`Exact::transfer_pixel`]).
+    fn span_cell(
+        &self,
+        f: &Frame,
+        cell: usize,
+        rays: &CellRays,
+        extent: f64,
+        _: &mut Scratch,
+    ) -> Option<SpanPieces> {
+        if !self.rule.exact_for_linear || (self.step > 0.0 && extent > self.step) {
+            return None;
+        }
+        let t = f.transfer.as_ref()?;
+        let v = f.node_values(cell);
+        if !v.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+                (lo.min(x), hi.max(x))
+            });
+        let (first, last) = (t.piece(lo), t.piece(hi));
+        let count = last - first + 1;
+        let s = rays.ortho_affine(&v);
+        if count > MAX_PIECES || (count > 1 && !(s[3] != 0.0 && s[3].is_finite())) {
+            return None;
+        }
+        let mut out = [SpanCell {
+            q: [[0.0; 4]; 4],
+            clip: None,
+            terms: 0,
+            brightness: self.brightness,
+        }; MAX_PIECES];
+        for (i, slot) in out.iter_mut().take(count).enumerate() {
+            // Nearest first: where the field grows with depth, the lowest piece is in front.
+            let p = if s[3] > 0.0 { first + i } else { last - i };
+            let (from, base, slope) = t.affine_piece(p)?;
+            let q = std::array::from_fn(|k| {
+                [
+                    base[k] + (s[0] - from) * slope[k],
+                    slope[k] * s[1],
+                    slope[k] * s[2],
+                    slope[k] * s[3],
+                ]
+            });
+            // χ is affine in the field: largest at an end of the cell's range in this piece.
+            let (plo, phi) = t.piece_range(p);
+            let chi = [lo.max(plo), hi.min(phi)]
+                .iter()
+                .map(|&x| base[3] + (x - from) * slope[3])
+                .fold(0.0, f64::max);
+            *slot = SpanCell {
+                q,
+                clip: (count > 1).then_some(Clip {
+                    s,
+                    lo: plo,
+                    hi: phi,
+                }),
+                terms: terms_for(chi * extent)?,
+                brightness: self.brightness,
+            };
+        }
+        Some(SpanPieces { cells: out, count })
+    }
 
     fn prepare(
         &self,

@@ -3,10 +3,12 @@
 //! mapped once at the cell's four nodes (the mapping is not applied per pixel).
 
 use super::{Approx, Method, MethodInfo, Pixel, Scratch, non_negative, rule};
+use crate::integrate::linear_lanes::terms_for;
 use crate::integrate::{RuleInfo, Segment};
-use crate::render::cell::EyeCell;
+use crate::render::cell::{CellRays, EyeCell};
 use crate::render::footprint::Footprint;
 use crate::render::frame::Frame;
+use crate::render::span::{SpanCell, SpanPieces};
 
 pub const INFO: MethodInfo = MethodInfo {
     name: "interpolateCoeff",
@@ -56,6 +58,35 @@ pub fn interpolate(c: &NodeCoefficients, l: &[f64; 4]) -> ([f64; 3], f64) {
 
 impl Approx for InterpolateCoeff {
     type Cell = NodeCoefficients;
+
+    const SPAN: bool = true;
+
+    /// With the `linear` rule: η and χ interpolated from the nodes are affine in the position.
+    fn span_cell(
+        &self,
+        f: &Frame,
+        cell: usize,
+        rays: &CellRays,
+        extent: f64,
+        s: &mut Scratch,
+    ) -> Option<SpanPieces> {
+        if !self.rule.exact_for_linear {
+            return None;
+        }
+        let c = node_coefficients(f, cell, s);
+        let value = |i: usize, k: usize| if k < 3 { c[i].0[k] } else { c[i].1 };
+        if !(0..4).all(|i| (0..4).all(|k| value(i, k).is_finite())) {
+            return None;
+        }
+        let q = std::array::from_fn(|k| rays.ortho_affine(&std::array::from_fn(|i| value(i, k))));
+        let chi = c.iter().map(|n| n.1).fold(0.0, f64::max);
+        Some(SpanPieces::one(SpanCell {
+            q,
+            clip: None,
+            terms: terms_for(chi * extent)?,
+            brightness: self.brightness,
+        }))
+    }
 
     fn prepare(
         &self,

@@ -149,7 +149,7 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
         let t = stats.timing;
         let ms = |d: std::time::Duration| d.as_secs_f64() * 1e3;
         s.reporter.info(&format!(
-            "  setup {:.1} ms, sort {:.1} ms ({}{}), bin {:.1} ms, draw {:.1} ms; {} ray segments on {} threads",
+            "  setup {:.1} ms, sort {:.1} ms ({}{}), bin {:.1} ms, draw {:.1} ms; {} ray segments ({:.0} % in SIMD lanes, {}) on {} threads",
             ms(t.setup),
             ms(t.sort),
             stats.sort,
@@ -161,6 +161,8 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
             ms(t.bin),
             ms(t.draw),
             stats.fragments,
+            100.0 * stats.lane_fragments as f64 / stats.fragments.max(1) as f64,
+            kernel_name(),
             rayon::current_num_threads()
         ));
     }
@@ -183,3 +185,14 @@ pub const RENDER_FTB: CommandInfo = CommandInfo {
     details: "Same image as render_btf up to the early-termination threshold (transparency below 1e-6).",
     run: |s: &mut Session, c: &Call| render_command(s, c, Order::FrontToBack),
 };
+
+/// The span kernel this processor runs, for the timing line.
+fn kernel_name() -> &'static str {
+    match crate::render::span::kernel() {
+        crate::render::span::Kernel::Baseline => "SSE2",
+        #[cfg(target_arch = "x86_64")]
+        crate::render::span::Kernel::Avx2 => "AVX2",
+        #[cfg(target_arch = "x86_64")]
+        crate::render::span::Kernel::Avx512 => "AVX-512",
+    }
+}
