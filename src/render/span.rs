@@ -338,7 +338,7 @@ mod tests {
                 [0.3, 0.001, 0.002, 0.4],
             ],
             clip: None,
-            terms: terms_for(0.45).unwrap(),
+            terms: terms_for(0.45, 0.2).unwrap(),
             brightness: 1.5,
         }
     }

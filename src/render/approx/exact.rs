@@ -305,7 +305,7 @@ impl Approx for Exact {
                     lo: plo,
                     hi: phi,
                 }),
-                terms: terms_for(chi * extent)?,
+                terms: terms_for(chi * extent, 0.5 * q[3][3].abs() * extent * extent)?,
                 brightness: self.brightness,
             };
         }

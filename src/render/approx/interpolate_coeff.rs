@@ -83,7 +83,7 @@ impl Approx for InterpolateCoeff {
         Some(SpanPieces::one(SpanCell {
             q,
             clip: None,
-            terms: terms_for(chi * extent)?,
+            terms: terms_for(chi * extent, 0.5 * q[3][3].abs() * extent * extent)?,
             brightness: self.brightness,
         }))
     }
