@@ -142,10 +142,10 @@ impl CellRays {
         CellRays { a, b, tol }
     }
 
-    /// `Σ v_i·λ_i` along the rays of an orthographic view as one affine function of the pixel
-    /// position and the depth: `[c, c_x, c_y, c_τ]` with the value `c + c_x·x + c_y·y + c_τ·τ`
-    /// (for orthographic rays `b_i` does not depend on x and y).
-    pub fn ortho_affine(&self, v: &[f64; 4]) -> [f64; 4] {
+    /// `Σ v_i·λ_i` along the rays as a function of the pixel position and the depth:
+    /// `c[0] + c[1]·x + c[2]·y + τ·(c[3] + c[4]·x + c[5]·y)` (for orthographic rays
+    /// `c[4] = c[5] = 0`).
+    pub fn affine(&self, v: &[f64; 4]) -> [f64; 6] {
         let dot = |m: &[[f64; 3]; 4], k: usize| {
             m[0][k] * v[0] + m[1][k] * v[1] + m[2][k] * v[2] + m[3][k] * v[3]
         };
@@ -154,6 +154,8 @@ impl CellRays {
             dot(&self.a, 1),
             dot(&self.a, 2),
             dot(&self.b, 0),
+            dot(&self.b, 1),
+            dot(&self.b, 2),
         ]
     }
 

@@ -287,38 +287,40 @@ pub fn render(
     // Bin the ordered cells into tiles (CSR: tile → cells in order).
     let tile = settings.tile.max(1);
     let (tx, ty) = (width.div_ceil(tile), height.div_ceil(tile));
-    let ranges: Vec<Option<[u32; 4]>> = cells
-        .par_iter()
-        .map(|&c| tile_range(&frame, c as usize, tile, tx, ty))
-        .collect();
-    let mut start = vec![0u32; tx * ty + 1];
-    for r in ranges.iter().flatten() {
-        for y in r[1]..=r[3] {
-            for x in r[0]..=r[2] {
-                start[y as usize * tx + x as usize + 1] += 1;
-            }
-        }
-    }
-    for i in 0..tx * ty {
-        start[i + 1] += start[i];
-    }
-    let mut fill = start.clone();
-    let mut binned = vec![0u32; start[tx * ty] as usize];
-    for (&c, r) in cells.iter().zip(&ranges) {
-        if let Some(r) = r {
-            for y in r[1]..=r[3] {
-                for x in r[0]..=r[2] {
-                    let t = y as usize * tx + x as usize;
-                    binned[fill[t] as usize] = c;
-                    fill[t] += 1;
+    // In parallel: each chunk of the order lists its cells per tile, then each tile joins
+    // its chunks' lists in chunk order — the same order as one pass over all cells.
+    let chunk = (cells.len() / (4 * rayon::current_num_threads())).max(4096);
+    let parts: Vec<(Vec<Vec<u32>>, usize)> = cells
+        .par_chunks(chunk)
+        .map(|cs| {
+            let mut lists = vec![Vec::new(); tx * ty];
+            let mut drawn = 0;
+            for &c in cs {
+                if let Some(r) = tile_range(&frame, c as usize, tile, tx, ty) {
+                    drawn += 1;
+                    for y in r[1]..=r[3] {
+                        for x in r[0]..=r[2] {
+                            lists[y as usize * tx + x as usize].push(c);
+                        }
+                    }
                 }
             }
-        }
-    }
-    drop(fill);
+            (lists, drawn)
+        })
+        .collect();
     drop(cells);
-    let drawn = ranges.iter().filter(|r| r.is_some()).count();
-    drop(ranges);
+    let drawn = parts.iter().map(|p| p.1).sum();
+    let binned: Vec<Vec<u32>> = (0..tx * ty)
+        .into_par_iter()
+        .map(|t| {
+            let mut list = Vec::with_capacity(parts.iter().map(|p| p.0[t].len()).sum());
+            for p in &parts {
+                list.extend_from_slice(&p.0[t]);
+            }
+            list
+        })
+        .collect();
+    drop(parts);
     let bin_time = binning.elapsed();
 
     let drawing = Instant::now();
@@ -326,7 +328,7 @@ pub fn render(
     let total = tx * ty;
     // Tiles with the most cells first, so that no long tile is left for the end.
     let mut schedule: Vec<usize> = (0..total).collect();
-    schedule.sort_by_key(|&t| std::cmp::Reverse(start[t + 1] - start[t]));
+    schedule.sort_by_key(|&t| std::cmp::Reverse(binned[t].len()));
     // The image, filled in as tiles finish: only the tiles in flight exist besides it.
     let fb = std::sync::Mutex::new(Framebuffer::try_new(width, height)?);
     let tiles: Vec<([u64; 2], usize, Overlaps)> = schedule
@@ -339,7 +341,7 @@ pub fn render(
                 x1: ((t % tx + 1) * tile).min(width),
                 y1: ((t / tx + 1) * tile).min(height),
             };
-            let list = &binned[start[t] as usize..start[t + 1] as usize];
+            let list = &binned[t];
             let (o, pp) = (settings.order, per_pixel);
             let (out, fragments, most, overlaps) = match &settings.method {
                 Method::Exact(m) => render_tile(&frame, m, o, pp, rect, list),
@@ -527,7 +529,12 @@ fn render_tile<A: Approx>(
     }
     let mut fragments = 0u64;
     // Orthographic, composited in the sort's order: cells may go through the span kernel.
-    let span_frame = f.span_kernels && A::SPAN && !per_pixel && !f.projector.is_perspective();
+    let span_frame = f.span_kernels && A::SPAN && !per_pixel;
+    let ray_planes = f.projector.ray_planes();
+    let ray_dirs = f.projector.is_perspective().then(|| {
+        let d = ray_planes.dir;
+        [d[0][0], d[0][1], d[1][0], d[1][2]]
+    });
     let mut span_buf = span::SpanBuffer::default();
     let mut lane_fragments = 0u64;
     let tets = f.vol.mesh.tets();
@@ -573,8 +580,16 @@ fn render_tile<A: Approx>(
         // Span kernel: the whole cell's pixels at once.
         if span_frame && unclipped {
             if let (Some((v, count)), Some(cf)) = (hull, &faces) {
-                let rays = CellRays::new(&ec, &f.projector);
-                if let Some(sc) = method.span_cell(f, cell, &rays, hi - lo, &mut scratch) {
+                let geometry = span::SpanGeometry {
+                    rays: CellRays::new(&ec, &f.projector),
+                    extent: hi - lo,
+                    length: (hi - lo) * ray_planes.max_speed,
+                    screen,
+                };
+                if let Some(mut sc) = method.span_cell(f, cell, &geometry, &mut scratch) {
+                    for piece in &mut sc.cells {
+                        piece.rays = ray_dirs;
+                    }
                     let Pixels::Direct(acc) = &mut pixels else {
                         unreachable!("span kernels composite directly")
                     };

@@ -1,7 +1,7 @@
 //! Span kernels: a cell's covered pixels integrated together, in SIMD lanes.
 //!
-//! For an orthographic view every quantity the `linear` rule needs is affine in the pixel
-//! position and the depth: η (RGB) and χ inside one piece of the transfer function
+//! Every quantity the `linear` rule needs is, along the ray of pixel (x, y), affine in the
+//! depth τ with coefficients affine in x and y (for an orthographic view, affine in all three): η (RGB) and χ inside one piece of the transfer function
 //! (`exact linear`), or interpolated from the nodes (`interpolateCoeff linear`). So a cell is
 //! described once by four affine functions ([`SpanCell`]); the scan conversion only gathers its
 //! pixels' entry and exit depths (from the watertight faces, [`super::faces`]) into a
@@ -15,16 +15,22 @@
 //! operations in the same order on every path (no fused multiply-adds), so the image does not
 //! depend on the processor.
 
-use crate::integrate::linear_lanes::{MAX_TERMS, moments};
+use super::cell::CellRays;
+use crate::integrate::linear_lanes::{MAX_TERMS, moments, terms_for};
 
 /// Pixels per batch: one AVX-512 register of f64, two AVX2 registers.
 const LANES: usize = 8;
 
 /// One cell's integrand: `[η_r, η_g, η_b, χ]`, each `q[k][0] + q[k][1]·x + q[k][2]·y +
-/// q[k][3]·τ` at pixel position (x, y) and depth τ — or one piece of it ([`Clip`]).
+/// τ·(q[k][3] + q[k][4]·x + q[k][5]·y)` at pixel position (x, y) and depth τ — or one piece of
+/// it ([`Clip`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct SpanCell {
-    pub q: [[f64; 4]; 4],
+    pub q: [[f64; 6]; 4],
+    /// Perspective rays: their direction's x and y components `[d_x0, d_xx, d_y0, d_yy]`
+    /// (`d_x = d_x0 + d_xx·x`, `d_y = d_y0 + d_yy·y`, `d_z = −1`), so that a segment's length is
+    /// `Δτ·|d|`; `None` for orthographic rays (`|d| = 1`).
+    pub rays: Option<[f64; 4]>,
     /// Where the cell's field crosses knots of the transfer function: the part of each segment
     /// where the field is in `[lo, hi)`.
     pub clip: Option<Clip>,
@@ -33,6 +39,52 @@ pub struct SpanCell {
     pub terms: usize,
     /// The method's brightness factor, applied to `b`.
     pub brightness: f64,
+}
+
+/// What a method needs of a cell's geometry to describe it for the kernel.
+#[derive(Debug, Clone, Copy)]
+pub struct SpanGeometry {
+    /// λ along the rays ([`CellRays`]).
+    pub rays: CellRays,
+    /// The cell's depth range (the longest Δτ of a segment) and the longest segment in world
+    /// units (Δτ times the largest ray speed).
+    pub extent: f64,
+    pub length: f64,
+    /// The nodes on screen: the footprint is their convex hull.
+    pub screen: [[f64; 2]; 4],
+}
+
+impl SpanGeometry {
+    /// The largest `|a[3] + a[4]·x + a[5]·y|` over the footprint (at a node: it is affine).
+    pub fn max_rate(&self, a: &[f64; 6]) -> f64 {
+        self.screen
+            .iter()
+            .map(|p| (a[3] + a[4] * p[0] + a[5] * p[1]).abs())
+            .fold(0.0, f64::max)
+    }
+
+    /// Whether `a[3] + a[4]·x + a[5]·y` has the same strict sign over the whole footprint: +1,
+    /// −1, or 0 if not.
+    pub fn rate_sign(&self, a: &[f64; 6]) -> i8 {
+        let signs = self.screen.map(|p| {
+            let r = a[3] + a[4] * p[0] + a[5] * p[1];
+            (r > 0.0) as i8 - (r < 0.0) as i8
+        });
+        if signs.iter().all(|&s| s == signs[0]) && a.iter().all(|v| v.is_finite()) {
+            signs[0]
+        } else {
+            0
+        }
+    }
+
+    /// The series terms for a piece whose absorption is at most `chi` and changes at rate
+    /// `chi_rate` (the χ row of the integrand) along the rays.
+    pub fn terms(&self, chi: f64, chi_rate: &[f64; 6]) -> Option<usize> {
+        terms_for(
+            chi * self.length,
+            0.5 * self.max_rate(chi_rate) * self.extent * self.length,
+        )
+    }
 }
 
 /// Most pieces of the transfer function one cell may span in the kernel (more: per pixel).
@@ -58,11 +110,11 @@ impl SpanPieces {
     }
 }
 
-/// The part of a segment where the scalar `s = s[0] + s[1]·x + s[2]·y + s[3]·τ` lies between
-/// `lo` and `hi` (±∞ allowed; `s[3] ≠ 0`).
+/// The part of a segment where the scalar `s = s[0] + s[1]·x + s[2]·y + τ·(s[3] + s[4]·x +
+/// s[5]·y)` lies between `lo` and `hi` (±∞ allowed; the τ coefficient nonzero on the cell).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Clip {
-    pub s: [f64; 4],
+    pub s: [f64; 6],
     pub lo: f64,
     pub hi: f64,
 }
@@ -210,41 +262,48 @@ fn run_on(k: Kernel, cell: &SpanCell, buf: &mut SpanBuffer) {
         // SAFETY (both): the processor reported the features the function is compiled for.
         #[cfg(target_arch = "x86_64")]
         Kernel::Avx2 if supported(k) => unsafe {
-            match cell.clip {
-                None => kernel_avx2::<false>(cell, buf),
-                Some(_) => kernel_avx2::<true>(cell, buf),
+            match (cell.clip.is_some(), cell.rays.is_some()) {
+                (false, false) => kernel_avx2::<false, false>(cell, buf),
+                (true, false) => kernel_avx2::<true, false>(cell, buf),
+                (false, true) => kernel_avx2::<false, true>(cell, buf),
+                (true, true) => kernel_avx2::<true, true>(cell, buf),
             }
         },
         #[cfg(target_arch = "x86_64")]
         Kernel::Avx512 if supported(k) => unsafe {
-            match cell.clip {
-                None => kernel_avx512::<false>(cell, buf),
-                Some(_) => kernel_avx512::<true>(cell, buf),
+            match (cell.clip.is_some(), cell.rays.is_some()) {
+                (false, false) => kernel_avx512::<false, false>(cell, buf),
+                (true, false) => kernel_avx512::<true, false>(cell, buf),
+                (false, true) => kernel_avx512::<false, true>(cell, buf),
+                (true, true) => kernel_avx512::<true, true>(cell, buf),
             }
         },
-        _ => match cell.clip {
-            None => kernel_body::<false>(cell, buf),
-            Some(_) => kernel_body::<true>(cell, buf),
+        _ => match (cell.clip.is_some(), cell.rays.is_some()) {
+            (false, false) => kernel_body::<false, false>(cell, buf),
+            (true, false) => kernel_body::<true, false>(cell, buf),
+            (false, true) => kernel_body::<false, true>(cell, buf),
+            (true, true) => kernel_body::<true, true>(cell, buf),
         },
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn kernel_avx2<const CLIP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
-    kernel_body::<CLIP>(cell, buf)
+fn kernel_avx2<const CLIP: bool, const PERSP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
+    kernel_body::<CLIP, PERSP>(cell, buf)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-fn kernel_avx512<const CLIP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
-    kernel_body::<CLIP>(cell, buf)
+fn kernel_avx512<const CLIP: bool, const PERSP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
+    kernel_body::<CLIP, PERSP>(cell, buf)
 }
 
 /// The kernel: whole batches of [`LANES`] pixels (the buffers are padded). With `CLIP`, only
-/// the part of each segment in the clip's range, composited behind the buffer's contents.
+/// the part of each segment in the clip's range, composited behind the buffer's contents; with
+/// `PERSP`, τ-coefficients that vary with x and y and segment lengths `Δτ·|d|`.
 #[inline(always)]
-fn kernel_body<const CLIP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
+fn kernel_body<const CLIP: bool, const PERSP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
     let terms = cell.terms.min(MAX_TERMS);
     let q = &cell.q;
     let SpanBuffer {
@@ -271,7 +330,7 @@ fn kernel_body<const CLIP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
         let (x, y, mut near, mut far) = (lane(x), lane(y), lane(near), lane(far));
         if CLIP {
             let clip = cell.clip.unwrap_or(Clip {
-                s: [0.0, 0.0, 0.0, 1.0],
+                s: [0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
                 lo: f64::NEG_INFINITY,
                 hi: f64::INFINITY,
             });
@@ -279,8 +338,13 @@ fn kernel_body<const CLIP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
             for l in 0..LANES {
                 // The depths where s reaches lo and hi (±∞ for the outer pieces).
                 let base = s[0] + s[1] * x[l] + s[2] * y[l];
-                let ta = (clip.lo - base) / s[3];
-                let tb = (clip.hi - base) / s[3];
+                let rate = if PERSP {
+                    s[3] + s[4] * x[l] + s[5] * y[l]
+                } else {
+                    s[3]
+                };
+                let ta = (clip.lo - base) / rate;
+                let tb = (clip.hi - base) / rate;
                 let n = near[l].max(ta.min(tb));
                 let f = far[l].min(ta.max(tb));
                 near[l] = n;
@@ -293,8 +357,13 @@ fn kernel_body<const CLIP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
         for k in 0..4 {
             for l in 0..LANES {
                 let base = q[k][0] + q[k][1] * x[l] + q[k][2] * y[l];
-                at_far[k][l] = base + q[k][3] * far[l];
-                at_near[k][l] = base + q[k][3] * near[l];
+                let rate = if PERSP {
+                    q[k][3] + q[k][4] * x[l] + q[k][5] * y[l]
+                } else {
+                    q[k][3]
+                };
+                at_far[k][l] = base + rate * far[l];
+                at_near[k][l] = base + rate * near[l];
             }
         }
         let mut len = [0.0; LANES];
@@ -302,6 +371,11 @@ fn kernel_body<const CLIP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
         let mut d = [0.0; LANES];
         for l in 0..LANES {
             len[l] = far[l] - near[l];
+            if PERSP {
+                let d = cell.rays.unwrap_or([0.0; 4]);
+                let (dx, dy) = (d[0] + d[1] * x[l], d[2] + d[3] * y[l]);
+                len[l] *= (dx * dx + dy * dy + 1.0).sqrt();
+            }
             // Negative absorption (unphysical) counts as none, as in the scalar rule.
             let a = (at_far[3][l] * len[l]).max(0.0);
             c[l] = (at_near[3][l] * len[l]).max(0.0);
@@ -327,16 +401,16 @@ mod tests {
     use super::*;
     use crate::integrate::Segment;
     use crate::integrate::linear::rule;
-    use crate::integrate::linear_lanes::terms_for;
 
     fn cell() -> SpanCell {
         SpanCell {
             q: [
-                [0.2, 0.01, -0.003, 0.05],
-                [0.5, -0.002, 0.004, 0.1],
-                [0.9, 0.0, 0.0, -0.02],
-                [0.3, 0.001, 0.002, 0.4],
+                [0.2, 0.01, -0.003, 0.05, 0.0, 0.0],
+                [0.5, -0.002, 0.004, 0.1, 0.0, 0.0],
+                [0.9, 0.0, 0.0, -0.02, 0.0, 0.0],
+                [0.3, 0.001, 0.002, 0.4, 0.0, 0.0],
             ],
+            rays: None,
             clip: None,
             terms: terms_for(0.45, 0.2).unwrap(),
             brightness: 1.5,

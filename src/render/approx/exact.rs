@@ -12,13 +12,12 @@
 //! the result (to 1e-9); `step > 0` adds uniform sub-steps on top.
 
 use super::{Approx, Method, MethodInfo, Pixel, Scratch, accumulate, non_negative, rule};
-use crate::integrate::linear_lanes::terms_for;
 use crate::integrate::{Contribution, RuleInfo, Segment};
 use crate::mapping::{Lines, Shape, Transfer1D};
-use crate::render::cell::{CellRays, EyeCell};
+use crate::render::cell::EyeCell;
 use crate::render::footprint::Footprint;
 use crate::render::frame::Frame;
-use crate::render::span::{Clip, MAX_PIECES, SpanCell, SpanPieces};
+use crate::render::span::{Clip, MAX_PIECES, SpanCell, SpanGeometry, SpanPieces};
 
 pub const INFO: MethodInfo = MethodInfo {
     name: "exact",
@@ -251,11 +250,10 @@ impl Approx for Exact {
         &self,
         f: &Frame,
         cell: usize,
-        rays: &CellRays,
-        extent: f64,
+        geometry: &SpanGeometry,
         _: &mut Scratch,
     ) -> Option<SpanPieces> {
-        if !self.rule.exact_for_linear || (self.step > 0.0 && extent > self.step) {
+        if !self.rule.exact_for_linear || (self.step > 0.0 && geometry.length > self.step) {
             return None;
         }
         let t = f.transfer.as_ref()?;
@@ -270,26 +268,31 @@ impl Approx for Exact {
             });
         let (first, last) = (t.piece(lo), t.piece(hi));
         let count = last - first + 1;
-        let s = rays.ortho_affine(&v);
-        if count > MAX_PIECES || (count > 1 && !(s[3] != 0.0 && s[3].is_finite())) {
+        let s = geometry.rays.affine(&v);
+        // Along every ray the field must run one way through the pieces.
+        let direction = geometry.rate_sign(&s);
+        if count > MAX_PIECES || (count > 1 && direction == 0) {
             return None;
         }
         let mut out = [SpanCell {
-            q: [[0.0; 4]; 4],
+            q: [[0.0; 6]; 4],
             clip: None,
+            rays: None,
             terms: 0,
             brightness: self.brightness,
         }; MAX_PIECES];
         for (i, slot) in out.iter_mut().take(count).enumerate() {
             // Nearest first: where the field grows with depth, the lowest piece is in front.
-            let p = if s[3] > 0.0 { first + i } else { last - i };
+            let p = if direction > 0 { first + i } else { last - i };
             let (from, base, slope) = t.affine_piece(p)?;
-            let q = std::array::from_fn(|k| {
+            let q: [[f64; 6]; 4] = std::array::from_fn(|k| {
                 [
                     base[k] + (s[0] - from) * slope[k],
                     slope[k] * s[1],
                     slope[k] * s[2],
                     slope[k] * s[3],
+                    slope[k] * s[4],
+                    slope[k] * s[5],
                 ]
             });
             // χ is affine in the field: largest at an end of the cell's range in this piece.
@@ -305,7 +308,8 @@ impl Approx for Exact {
                     lo: plo,
                     hi: phi,
                 }),
-                terms: terms_for(chi * extent, 0.5 * q[3][3].abs() * extent * extent)?,
+                rays: None,
+                terms: geometry.terms(chi, &q[3])?,
                 brightness: self.brightness,
             };
         }

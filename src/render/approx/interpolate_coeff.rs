@@ -3,12 +3,11 @@
 //! mapped once at the cell's four nodes (the mapping is not applied per pixel).
 
 use super::{Approx, Method, MethodInfo, Pixel, Scratch, non_negative, rule};
-use crate::integrate::linear_lanes::terms_for;
 use crate::integrate::{RuleInfo, Segment};
-use crate::render::cell::{CellRays, EyeCell};
+use crate::render::cell::EyeCell;
 use crate::render::footprint::Footprint;
 use crate::render::frame::Frame;
-use crate::render::span::{SpanCell, SpanPieces};
+use crate::render::span::{SpanCell, SpanGeometry, SpanPieces};
 
 pub const INFO: MethodInfo = MethodInfo {
     name: "interpolateCoeff",
@@ -66,8 +65,7 @@ impl Approx for InterpolateCoeff {
         &self,
         f: &Frame,
         cell: usize,
-        rays: &CellRays,
-        extent: f64,
+        geometry: &SpanGeometry,
         s: &mut Scratch,
     ) -> Option<SpanPieces> {
         if !self.rule.exact_for_linear {
@@ -78,12 +76,14 @@ impl Approx for InterpolateCoeff {
         if !(0..4).all(|i| (0..4).all(|k| value(i, k).is_finite())) {
             return None;
         }
-        let q = std::array::from_fn(|k| rays.ortho_affine(&std::array::from_fn(|i| value(i, k))));
+        let q: [[f64; 6]; 4] =
+            std::array::from_fn(|k| geometry.rays.affine(&std::array::from_fn(|i| value(i, k))));
         let chi = c.iter().map(|n| n.1).fold(0.0, f64::max);
         Some(SpanPieces::one(SpanCell {
             q,
             clip: None,
-            terms: terms_for(chi * extent, 0.5 * q[3][3].abs() * extent * extent)?,
+            rays: None,
+            terms: geometry.terms(chi, &q[3])?,
             brightness: self.brightness,
         }))
     }

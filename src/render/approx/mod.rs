@@ -12,10 +12,10 @@ pub use interpolate_coeff::InterpolateCoeff;
 pub use interpolate_color::InterpolateColor;
 pub use test::Test;
 
-use super::cell::{CellRays, EyeCell, Interval};
+use super::cell::{EyeCell, Interval};
 use super::footprint::Footprint;
 use super::frame::Frame;
-use super::span::SpanPieces;
+use super::span::{SpanGeometry, SpanPieces};
 use crate::integrate::{self, RuleInfo};
 
 /// What a method sees of one covered pixel.
@@ -82,16 +82,14 @@ pub trait Approx: Sync {
     }
     /// A method that may hand whole cells to the span kernel ([`Approx::span_cell`]).
     const SPAN: bool = false;
-    /// For an orthographic view and a cell nothing clips: the cell as [`SpanPieces`] (η and χ
-    /// affine along every segment within each piece, integrated by the `linear` rule, thin
-    /// enough for the lanes); `None` to draw the cell pixel by pixel. `extent` is the cell's
-    /// depth range (the longest segment).
+    /// For a cell nothing clips: the cell as [`SpanPieces`] (η and χ affine along every segment
+    /// within each piece, integrated by the `linear` rule, thin enough for the lanes); `None` to
+    /// draw the cell pixel by pixel.
     fn span_cell(
         &self,
         _f: &Frame,
         _cell: usize,
-        _rays: &CellRays,
-        _extent: f64,
+        _geometry: &SpanGeometry,
         _s: &mut Scratch,
     ) -> Option<SpanPieces> {
         None
