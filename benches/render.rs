@@ -257,3 +257,29 @@ fn threads(bencher: divan::Bencher, case: &str) {
         pool.install(|| render(&s.vol, &s.mapping, &view, &settings, None).expect("render"))
     });
 }
+
+/// The SIMD span kernels against the scalar per-pixel path they replace, same frames
+/// (`Settings::span_kernels`): the speed-up of `render::span` measured in one run.
+const SPAN: [&str; 6] = [
+    "lanes/exact_linear/150k/512/ortho",
+    "scalar/exact_linear/150k/512/ortho",
+    "lanes/exact_linear/150k/512/persp",
+    "scalar/exact_linear/150k/512/persp",
+    "lanes/interpolate_coeff/150k/512/ortho",
+    "scalar/interpolate_coeff/150k/512/ortho",
+];
+
+#[divan::bench(args = SPAN, sample_count = 5, sample_size = 1)]
+fn span_kernels(bencher: divan::Bencher, case: &str) {
+    let (path, rest) = case.split_once('/').expect("path/method/frame");
+    let (name, frame_case) = rest.split_once('/').expect("method/frame");
+    let method = METHODS.iter().find(|m| m.0 == name).expect("a method").1;
+    let (cells, pixels, perspective) = frame(frame_case);
+    let s = scene(cells);
+    let view = view(perspective);
+    let settings = Settings {
+        span_kernels: path == "lanes",
+        ..settings(pixels, method)
+    };
+    bencher.bench(|| render(&s.vol, &s.mapping, &view, &settings, None).expect("render"));
+}

@@ -274,7 +274,10 @@ impl CellFaces {
         }
         let [z0, gx, gy] = face.plane;
         let a = face.s[0];
-        let z = (z0 + gx * (p[0] - a[0]) + gy * (p[1] - a[1])).clamp(face.zmin, face.zmax);
+        // max/min rather than clamp: the same value, and no panic path for a NaN bound.
+        let z = (z0 + gx * (p[0] - a[0]) + gy * (p[1] - a[1]))
+            .max(face.zmin)
+            .min(face.zmax);
         if self.perspective { 1.0 / z } else { z }
     }
 
@@ -291,7 +294,7 @@ impl CellFaces {
         let a = face.s[0];
         let dy = gy * (py - a[1]);
         let (lo, hi) = (face.zmin, face.zmax);
-        out.extend((x0..x1).map(|x| (z0 + gx * ((x as f64 + 0.5) - a[0]) + dy).clamp(lo, hi)));
+        out.extend((x0..x1).map(|x| (z0 + gx * ((x as f64 + 0.5) - a[0]) + dy).max(lo).min(hi)));
     }
 
     /// Prepares row `y` of the footprint, pixels `x0..x1`: where each inner edge splits it
