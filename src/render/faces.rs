@@ -286,7 +286,7 @@ impl CellFaces {
     #[inline]
     pub fn depths(&self, f: usize, py: f64, x0: usize, x1: usize, out: &mut Vec<f64>) {
         let face = &self.faces[f];
-        if face.sliver || self.perspective {
+        if face.sliver {
             out.extend((x0..x1).map(|x| self.depth(f, [x as f64 + 0.5, py])));
             return;
         }
@@ -294,7 +294,13 @@ impl CellFaces {
         let a = face.s[0];
         let dy = gy * (py - a[1]);
         let (lo, hi) = (face.zmin, face.zmax);
-        out.extend((x0..x1).map(|x| (z0 + gx * ((x as f64 + 0.5) - a[0]) + dy).max(lo).min(hi)));
+        let z = |x: usize| (z0 + gx * ((x as f64 + 0.5) - a[0]) + dy).max(lo).min(hi);
+        if self.perspective {
+            // The plane holds inverse depths.
+            out.extend((x0..x1).map(|x| 1.0 / z(x)));
+        } else {
+            out.extend((x0..x1).map(z));
+        }
     }
 
     /// Prepares row `y` of the footprint, pixels `x0..x1`: where each inner edge splits it
