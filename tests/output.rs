@@ -31,10 +31,31 @@ fn expect8(v: f32) -> u8 {
     (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 
+/// What a file with alpha must hold for a pixel (SPEC §6, issue 16 **Decision**): opaque RGB as
+/// the framebuffer shows it; after `background none`, straight alpha.
+fn shown(p: &[f32; 4], transparent: bool) -> [f32; 4] {
+    if !transparent {
+        [p[0], p[1], p[2], 1.0]
+    } else if p[3] > 0.0 {
+        [p[0] / p[3], p[1] / p[3], p[2] / p[3], p[3]]
+    } else {
+        [0.0; 4]
+    }
+}
+
 #[test]
 fn every_format_writes_and_reads_back() {
+    for transparent in [false, true] {
+        let mut fb = sample();
+        fb.transparent = transparent;
+        every_format(&fb);
+    }
+}
+
+fn every_format(fb: &Framebuffer) {
     let dir = tempfile::tempdir().unwrap();
-    let fb = sample();
+    let fb = fb.clone();
+    let transparent = fb.transparent;
     for format in FORMATS {
         for ext in format.extensions {
             let path = dir.path().join(format!("nested/img.{ext}"));
@@ -60,11 +81,13 @@ fn every_format_writes_and_reads_back() {
                         for y in 0..h {
                             for x in 0..w {
                                 let got = bytes[512 + c * w * h + (h - 1 - y) * w + x];
-                                assert_eq!(
-                                    got,
-                                    expect8(fb.get(x, y)[c]),
-                                    "{ext} channel {c} at ({x},{y})"
-                                );
+                                let p = fb.get(x, y);
+                                let want = if channels == 4 {
+                                    shown(&p, transparent)[c]
+                                } else {
+                                    p[c]
+                                };
+                                assert_eq!(got, expect8(want), "{ext} channel {c} at ({x},{y})");
                             }
                         }
                     }
@@ -80,7 +103,9 @@ fn every_format_writes_and_reads_back() {
                         "exr" => {
                             let f = img.to_rgba32f();
                             for (p, q) in fb.pixels.iter().zip(f.pixels()) {
-                                assert_eq!(p, &q.0, "exr keeps floats exactly");
+                                // Premultiplied (OpenEXR's convention): RGB as it is.
+                                let a = if transparent { p[3] } else { 1.0 };
+                                assert_eq!([p[0], p[1], p[2], a], q.0, "exr keeps floats exactly");
                             }
                         }
                         "hdr" => {
@@ -115,17 +140,21 @@ fn every_format_writes_and_reads_back() {
                             );
                             let rgba = img.to_rgba8();
                             for (p, q) in fb.pixels.iter().zip(rgba.pixels()) {
+                                let want = if with_alpha {
+                                    shown(p, transparent)
+                                } else {
+                                    [p[0], p[1], p[2], 1.0]
+                                };
                                 for c in 0..3 {
-                                    let d = (q.0[c] as i32 - expect8(p[c]) as i32).abs();
+                                    let d = (q.0[c] as i32 - expect8(want[c]) as i32).abs();
                                     assert!(
                                         d <= if lossy { 24 } else { 0 },
                                         "{ext} channel {c}: {} vs {}",
                                         q.0[c],
-                                        expect8(p[c])
+                                        expect8(want[c])
                                     );
                                 }
-                                let a = if with_alpha { expect8(p[3]) } else { 255 };
-                                assert_eq!(q.0[3], a, "{ext} alpha");
+                                assert_eq!(q.0[3], expect8(want[3]), "{ext} alpha");
                             }
                         }
                     }
@@ -171,4 +200,73 @@ fn image_numbers_start_at_0001() {
         numbered(Path::new("a/b.tiff"), 1),
         Path::new("a/b.0001.tiff")
     );
+}
+
+/// Issue 16 **Decision**, end to end: a volume that glows without absorbing (where the scalar is
+/// 0, `examples/selfMade`) over a black background. By default the PNG is opaque and shows what
+/// the framebuffer (and the PFM) shows; with `background none` its alpha is the volume's opacity
+/// and its colour the emitted light divided by it.
+#[test]
+fn png_alpha_shows_the_picture_and_is_transparent_only_on_request() {
+    let dir = tempfile::tempdir().unwrap();
+    let ex = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/selfMade");
+    let script = |background: &str, out: &str| {
+        format!(
+            "imagesize 60 30\nbackground {background}\nvolume {}\ncolormap {}\nalphamap {}\n\
+             linedraw off\northo_camera -1.2 1.2 -0.6 0.6 -10 10\nmethod exact linear 0 1\n\
+             output {out}.png\nrender_btf\noutput {out}.pfm\nrender_btf\n",
+            ex.join("selfMade.hmesh").display(),
+            ex.join("glow.cmap").display(),
+            ex.join("ramp.amap").display(),
+        )
+    };
+    for (background, name) in [("0 0 0", "opaque"), ("none", "clear")] {
+        let base = dir.path().join(name);
+        let status = std::process::Command::new(env!("CARGO_BIN_EXE_vorang"))
+            .arg("-e")
+            .arg(script(background, &base.display().to_string()))
+            .output()
+            .unwrap();
+        assert!(
+            status.status.success(),
+            "{}",
+            String::from_utf8_lossy(&status.stderr)
+        );
+        let png = image::open(format!("{}.0001.png", base.display()))
+            .unwrap()
+            .to_rgba8();
+        let (w, h, rgb) =
+            read_pfm(&std::fs::read(format!("{}.0002.pfm", base.display())).unwrap()).unwrap();
+        assert_eq!((w, h), (60, 30));
+        let mut glowing_but_clear = 0;
+        for (i, q) in png.pixels().enumerate() {
+            let p = rgb[i];
+            if background == "0 0 0" {
+                assert_eq!(q.0[3], 255, "opaque by default");
+                for c in 0..3 {
+                    assert_eq!(q.0[c], expect8(p[c]), "the PNG shows the framebuffer");
+                }
+            } else if q.0[3] == 0 {
+                // (Almost) nothing absorbs here: whatever glows is lost.
+                if p.iter().any(|&v| v > 0.01) {
+                    glowing_but_clear += 1;
+                }
+            } else {
+                let a = f32::from(q.0[3]) / 255.0;
+                for c in 0..3 {
+                    // Straight colour times alpha gives back the emitted light (8-bit rounding).
+                    let back = f32::from(q.0[c]) / 255.0 * a;
+                    assert!(
+                        (back - p[c].min(a)).abs() <= 2.0 / 255.0,
+                        "{c}: {back} vs {}",
+                        p[c]
+                    );
+                }
+            }
+        }
+        if background == "none" {
+            // The documented loss: emission without absorption has no straight-alpha form.
+            assert!(glowing_but_clear > 0);
+        }
+    }
 }

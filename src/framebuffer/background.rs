@@ -11,6 +11,8 @@ use crate::error::Error;
 pub enum Background {
     Color([f64; 3]),
     Image(Arc<BackgroundImage>),
+    /// `background none`: no background light (I0 = 0) and a transparent image file.
+    None,
 }
 
 impl Default for Background {
@@ -94,6 +96,7 @@ impl Background {
         match self {
             Background::Color(c) => super::try_pixels(*c, width, height, "the background"),
             Background::Image(img) => img.resample(width, height),
+            Background::None => super::try_pixels([0.0; 3], width, height, "the background"),
         }
     }
 }

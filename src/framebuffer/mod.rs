@@ -18,6 +18,9 @@ pub struct Framebuffer {
     pub width: usize,
     pub height: usize,
     pub pixels: Vec<[f32; 4]>,
+    /// Rendered with `background none`: the files get straight alpha (see
+    /// [`Framebuffer::output_pixel`]); otherwise they are opaque.
+    pub transparent: bool,
 }
 
 impl Framebuffer {
@@ -26,6 +29,7 @@ impl Framebuffer {
             width,
             height,
             pixels: vec![[0.0; 4]; width * height],
+            transparent: false,
         }
     }
 
@@ -35,6 +39,7 @@ impl Framebuffer {
             width,
             height,
             pixels: try_pixels([0.0; 4], width, height, "the float framebuffer")?,
+            transparent: false,
         })
     }
 
@@ -52,11 +57,34 @@ impl Framebuffer {
         self.pixels[y * self.width + x]
     }
 
-    /// The pixels as 8-bit RGBA, clipped to [0, 1] and rounded (an error where memory does not
-    /// suffice for the copy).
+    /// What a file with an alpha channel holds for pixel `p` (SPEC §6 **Decision**, issue 16):
+    /// by default what the framebuffer shows — RGB composited over the background, opaque
+    /// (alpha 1). Rendered with `background none` (no background light), straight alpha:
+    /// alpha = the volume's opacity 1 − T and RGB = the emitted light divided by it (0 where
+    /// nothing covers the pixel). Light emitted without absorption has no such form (alpha 0
+    /// with colour): it is lost there; the opaque default keeps it.
+    #[inline]
+    pub fn output_pixel(&self, p: &[f32; 4]) -> [f32; 4] {
+        if !self.transparent {
+            return [p[0], p[1], p[2], 1.0];
+        }
+        let a = p[3];
+        if a > 0.0 {
+            [p[0] / a, p[1] / a, p[2] / a, a]
+        } else {
+            [0.0; 4]
+        }
+    }
+
+    /// The pixels as 8-bit RGBA ([`Framebuffer::output_pixel`]), clipped to [0, 1] and rounded
+    /// (an error where memory does not suffice for the copy).
     pub fn to_rgba8(&self) -> Result<Vec<u8>, String> {
         let mut out = self.bytes(4)?;
-        out.extend(self.pixels.iter().flat_map(|p| p.map(to_u8)));
+        out.extend(
+            self.pixels
+                .iter()
+                .flat_map(|p| self.output_pixel(p).map(to_u8)),
+        );
         Ok(out)
     }
 

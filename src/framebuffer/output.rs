@@ -1,6 +1,9 @@
 //! Image files: the format follows the extension (SPEC §6 **Decision**). 8-bit formats clip
-//! to [0, 1]; `exr`, `pfm` and `hdr` keep the floats. Formats with an alpha channel store
-//! alpha = 1 − total transparency. Every file is written to a temporary name and renamed.
+//! to [0, 1]; `exr`, `pfm` and `hdr` keep the floats. Formats with an alpha channel are opaque
+//! (alpha 1: the picture composited over the background, as the framebuffer shows it); after a
+//! render with `background none` they hold alpha = 1 − total transparency, straight in the 8-bit
+//! formats and premultiplied in OpenEXR (each format's convention). Every file is written to a
+//! temporary name and renamed.
 
 use std::io::{BufWriter, Seek, Write};
 use std::path::{Path, PathBuf};
@@ -35,11 +38,13 @@ fn img<E: ImageEncoder>(
 
 fn floats(fb: &Framebuffer, channels: usize) -> Result<Vec<u8>, String> {
     let mut out = fb.bytes(4 * channels)?;
-    out.extend(
-        fb.pixels
-            .iter()
-            .flat_map(|p| p[..channels].iter().flat_map(|v| v.to_ne_bytes())),
-    );
+    // OpenEXR's alpha is premultiplied: the framebuffer's RGB as it is, alpha 1 unless the
+    // render was transparent.
+    let alpha = |p: &[f32; 4]| if fb.transparent { p[3] } else { 1.0 };
+    out.extend(fb.pixels.iter().flat_map(|p| {
+        let v = [p[0], p[1], p[2], alpha(p)];
+        (0..channels).flat_map(move |c| v[c].to_ne_bytes())
+    }));
     Ok(out)
 }
 

@@ -34,7 +34,10 @@ pub fn write(fb: &Framebuffer, w: &mut impl Write, alpha: bool) -> io::Result<()
     for c in 0..channels as usize {
         for y in (0..fb.height).rev() {
             for (x, r) in row.iter_mut().enumerate() {
-                *r = to_u8(fb.pixels[y * fb.width + x][c]);
+                let p = &fb.pixels[y * fb.width + x];
+                // With an alpha plane the file's convention applies; without, the framebuffer's
+                // composited RGB.
+                *r = to_u8(if alpha { fb.output_pixel(p)[c] } else { p[c] });
             }
             w.write_all(&row)?;
         }

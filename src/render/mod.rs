@@ -266,6 +266,7 @@ pub fn render(
     };
     let background = match &settings.background {
         Background::Color(c) => Backdrop::Uniform(*c),
+        Background::None => Backdrop::Uniform([0.0; 3]),
         other => Backdrop::Image(other.pixels(width, height)?),
     };
     let frame = Frame {
@@ -364,7 +365,8 @@ pub fn render(
             (fragments, most, overlaps)
         })
         .collect();
-    let fb = fb.into_inner().unwrap_or_else(|e| e.into_inner());
+    let mut fb = fb.into_inner().unwrap_or_else(|e| e.into_inner());
+    fb.transparent = matches!(settings.background, Background::None);
     let fragments = tiles.iter().map(|t| t.0[0]).sum();
     let lane_fragments = tiles.iter().map(|t| t.0[1]).sum();
     let most_runs = tiles.iter().map(|t| t.1).max().unwrap_or(0);

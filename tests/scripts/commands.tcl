@@ -11,7 +11,7 @@ expect_error {background no_such_image.png} {*no_such_image.png*}
 background clear
 background 0 0 0.2
 expect_error {background 0 -1 0} {*must be ≥ 0*}
-expect_error {background 0 1} {wrong # args: should be "background file|clear|r g b"}
+expect_error {background 0 1} {wrong # args: should be "background file|clear|none|r g b"}
 background clear
 
 # Rendering needs a volume.

@@ -54,9 +54,9 @@ pub const SET_NR: CommandInfo = CommandInfo {
 
 pub const BACKGROUND: CommandInfo = CommandInfo {
     name: "background",
-    usage: "file|clear|r g b",
-    summary: "an image under the volume (resampled to the image size), 'clear' for uniform white, or a uniform colour",
-    details: "Default: uniform white. The image's 8-bit values count as intensities 0…1. A colour (e.g. 'background 0 0 0') is an extension of the thesis's command.",
+    usage: "file|clear|none|r g b",
+    summary: "an image under the volume (resampled to the image size), 'clear' for uniform white, 'none' for a transparent image, or a uniform colour",
+    details: "Default: uniform white. The image's 8-bit values count as intensities 0…1. A colour (e.g. 'background 0 0 0') is an extension of the thesis's command. Image files are opaque (what the framebuffer shows, composited over the background); 'none' means no background light and writes straight alpha (the volume's opacity) where the format has alpha — light emitted without absorption cannot be represented that way.",
     run: |s: &mut Session, c: &Call| {
         if c.args().len() == 3 {
             let rgb = c.numbers(0, ["r", "g", "b"])?;
@@ -69,6 +69,8 @@ pub const BACKGROUND: CommandInfo = CommandInfo {
         c.expect(1..=1)?;
         if c.args()[0] == "clear" {
             s.settings.background = Background::default();
+        } else if c.args()[0] == "none" {
+            s.settings.background = Background::None;
         } else {
             let img = BackgroundImage::load(&c.path(0)).map_err(|e| e.to_string())?;
             s.settings.background = Background::Image(Arc::new(img));
