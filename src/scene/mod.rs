@@ -120,6 +120,123 @@ impl View {
     }
 }
 
+/// The fraction of the image `view_all` leaves free on each side of the volume.
+pub const FIT_MARGIN: f64 = 0.05;
+
+impl View {
+    /// `view_all` (issue 16 **Decision**): a camera of the current kind (orthographic when none
+    /// is set) looking in the current direction, such that every node of the transformed volume
+    /// lies inside the image of `width × height` pixels with a margin of [`FIT_MARGIN`] on each
+    /// side, touching it on at least one side. Orthographic: the window is centred on the
+    /// volume's eye-space extent and widened to the image's aspect ratio, the depth range covers
+    /// the volume. Perspective: the field of view and aspect are kept and the eye moves along the
+    /// viewing direction (reference point at the volume's bounding-box centre, same up vector);
+    /// near and far enclose the volume. `nodes` are in file coordinates.
+    pub fn fit(
+        &mut self,
+        nodes: &[[f64; 3]],
+        bbox_centre: [f64; 3],
+        width: usize,
+        height: usize,
+    ) -> Result<(), String> {
+        let model = self
+            .model(bbox_centre)
+            .ok_or("view_all: the transforms are singular")?;
+        let world: Vec<[f64; 3]> = nodes.iter().map(|&p| model.apply(p)).collect();
+        if world.is_empty() {
+            return Err("view_all: the volume has no nodes".into());
+        }
+        let aspect = width as f64 / height as f64;
+        let keep = 1.0 - 2.0 * FIT_MARGIN;
+        match self.camera {
+            None | Some(Camera::Ortho { .. }) => {
+                let eye = self.view_matrix();
+                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
+                for &p in &world {
+                    let q = eye.apply(p);
+                    for k in 0..3 {
+                        lo[k] = lo[k].min(q[k]);
+                        hi[k] = hi[k].max(q[k]);
+                    }
+                }
+                let (cx, cy) = (0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]));
+                let mut hx = 0.5 * (hi[0] - lo[0]) / keep;
+                let mut hy = 0.5 * (hi[1] - lo[1]) / keep;
+                if hx <= 0.0 && hy <= 0.0 {
+                    return Err("view_all: the volume has no extent on screen".into());
+                }
+                if hx < hy * aspect {
+                    hx = hy * aspect;
+                } else {
+                    hy = hx / aspect;
+                }
+                // Depth is −z in eye space; a little room in front and behind.
+                let (near, far) = (-hi[2], -lo[2]);
+                let pad = 0.05 * (far - near) + 1e-9 * near.abs().max(far.abs()).max(1.0);
+                self.camera = Some(Camera::Ortho {
+                    left: cx - hx,
+                    right: cx + hx,
+                    bottom: cy - hy,
+                    top: cy + hy,
+                    front: near - pad,
+                    back: far + pad,
+                });
+            }
+            Some(Camera::Persp {
+                fovy,
+                aspect: cam_aspect,
+                ..
+            }) => {
+                let LookAt { eye, reference, up } = self.look_at;
+                let mut f = transform::sub(reference, eye);
+                if transform::norm(f) == 0.0 {
+                    f = [0.0, 0.0, -1.0];
+                }
+                let f = f.map(|v| v / transform::norm(f));
+                // The world centre of the bounding box, and the eye's axes (from the current
+                // look-at, which keeps its direction).
+                let centre = model.apply(bbox_centre);
+                let axes = self.view_matrix();
+                let rows = [0, 1, 2].map(|i| [axes.0[i][0], axes.0[i][1], axes.0[i][2]]);
+                let ty = (0.5 * fovy.to_radians()).tan() * keep;
+                let tx = ty * cam_aspect;
+                // With the eye at centre − d·f, a node at offset (x, y) from the axis and z
+                // along f from the centre is at depth d + z: it fits if |x| ≤ tx·(d + z) and
+                // |y| ≤ ty·(d + z).
+                let mut d: f64 = 0.0;
+                let mut zs = (f64::INFINITY, f64::NEG_INFINITY);
+                for &p in &world {
+                    let o = transform::sub(p, centre);
+                    let (x, y) = (transform::dot(o, rows[0]), transform::dot(o, rows[1]));
+                    let z = transform::dot(o, f);
+                    d = d.max(x.abs() / tx - z).max(y.abs() / ty - z);
+                    zs = (zs.0.min(z), zs.1.max(z));
+                }
+                // In front of every node, whatever the field of view.
+                let depth_span = zs.1 - zs.0;
+                d = d.max(-zs.0 + 0.05 * depth_span.max(1e-9));
+                if !d.is_finite() {
+                    return Err("view_all: no camera position fits the volume".into());
+                }
+                let new_eye = [0, 1, 2].map(|k| centre[k] - d * f[k]);
+                self.look_at = LookAt {
+                    eye: new_eye,
+                    reference: centre,
+                    up,
+                };
+                let (near, far) = (d + zs.0, d + zs.1);
+                self.camera = Some(Camera::Persp {
+                    fovy,
+                    aspect: cam_aspect,
+                    near: (0.5 * near).max(1e-6 * far),
+                    far: far * 1.05 + 1e-9,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

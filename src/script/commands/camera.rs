@@ -48,6 +48,28 @@ pub const ORTHO_CAMERA: CommandInfo = CommandInfo {
     },
 };
 
+pub const VIEW_ALL: CommandInfo = CommandInfo {
+    name: "view_all",
+    usage: "",
+    summary: "frame the whole transformed volume: a camera of the current kind, same viewing direction, the volume inside the image with a 5 % margin",
+    details: "Orthographic (also when no camera is set): the window is centred on the volume and widened to the image's aspect ratio; the depth range covers it. Perspective: field of view and aspect stay, the eye moves along the viewing direction and looks at the volume's centre; near and far enclose it. Uses the current volume, transforms and image size: call it after them.",
+    run: |s: &mut Session, c: &Call| {
+        c.expect(0..=0)?;
+        let vol = s
+            .volume
+            .clone()
+            .ok_or("view_all: no volume loaded (use 'volume FILE' first)")?;
+        let bbox = vol.mesh.bbox();
+        s.view.fit(
+            vol.mesh.nodes(),
+            bbox.center(),
+            s.settings.width,
+            s.settings.height,
+        )?;
+        Ok(String::new())
+    },
+};
+
 pub const VOL_SCALE: CommandInfo = CommandInfo {
     name: "vol_scale",
     usage: "x y z",

@@ -46,6 +46,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     maps::LINEDRAW,
     camera::PERSP_CAMERA,
     camera::ORTHO_CAMERA,
+    camera::VIEW_ALL,
     camera::VOL_SCALE,
     camera::VOL_TRANSLATE,
     camera::VOL_ROTATE,
