@@ -222,9 +222,8 @@ pub const FORMATS: &[Format] = &[
 ];
 
 fn starts_after_space(bytes: &[u8], magic: &[u8]) -> bool {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let start = bytes
-        .strip_prefix(b"\xEF\xBB\xBF")
-        .unwrap_or(bytes)
         .iter()
         .position(|b| !b.is_ascii_whitespace())
         .unwrap_or(0);

@@ -387,8 +387,8 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                                     "an element line needs a tag, a type and a number of tags",
                                 ));
                             }
-                            let ntags = nums[2].max(0) as usize;
-                            if nums.len() < 3 + ntags {
+                            let ntags = usize::try_from(nums[2].max(0)).unwrap_or(usize::MAX);
+                            if nums.len() - 3 < ntags {
                                 return Err(m.c.err_at(
                                     eline,
                                     "the element line is shorter than its number of tags",

@@ -460,7 +460,10 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
         let mut p = 0usize;
         for i in 0..n {
             let k = list.get(p).copied().unwrap_or(-1);
-            if k < 0 || p + 1 + k as usize > list.len() {
+            let end = usize::try_from(k)
+                .ok()
+                .and_then(|k| p.checked_add(1)?.checked_add(k));
+            if k < 0 || end.is_none_or(|e| e > list.len()) {
                 return Err(ParseError::new(
                     name,
                     line,

@@ -485,7 +485,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                 ),
             ));
         }
-        let coords = decode(&settings, pts, piece.points * 3)?;
+        let coords = decode(&settings, pts, piece.points.saturating_mul(3))?;
         if pts.ty != NumType::F32 {
             desc.float_coordinates = false;
         }
@@ -594,11 +594,13 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                         ));
                     }
                 }
-                let shifted: Vec<u64> = nodes
-                    .iter()
-                    .map(|&n| (n.max(0) as u64).saturating_add(node_base))
-                    .collect();
-                desc.cells.push(t as u8, &shifted);
+                desc.cells.types.push(t as u8);
+                desc.cells.connectivity.extend(
+                    nodes
+                        .iter()
+                        .map(|&n| (n.max(0) as u64).saturating_add(node_base)),
+                );
+                desc.cells.offsets.push(desc.cells.connectivity.len());
                 prev = o;
             }
         }
@@ -626,7 +628,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                 ));
             }
             for (k, d) in arrays.iter().enumerate() {
-                let v = decode(&settings, d, want * d.components)?;
+                let v = decode(&settings, d, want.saturating_mul(d.components))?;
                 let dest = if target == 0 {
                     &mut desc.point_arrays
                 } else {
@@ -692,7 +694,7 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
                 .copied()
                 .filter(|b| !b.is_ascii_whitespace())
                 .collect();
-            binary_base64(s, &text).map_err(&err)?
+            binary_base64(s, &text, want_bytes).map_err(&err)?
         }
         DataFormat::Appended(offset) => {
             let Some((app, start, raw)) = s.appended else {
@@ -708,7 +710,7 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
             }
             let o = offset.min(app.len() as u64) as usize;
             if raw {
-                binary_raw(s, &app[o..], start + o).map_err(&err)?
+                binary_raw(s, &app[o..], start + o, want_bytes).map_err(&err)?
             } else {
                 let end = s
                     .offsets
@@ -720,7 +722,7 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
                     .copied()
                     .filter(|b| !b.is_ascii_whitespace())
                     .collect();
-                binary_base64(s, &text).map_err(&err)?
+                binary_base64(s, &text, want_bytes).map_err(&err)?
             }
         }
     };
@@ -926,7 +928,7 @@ struct Blocks {
     compressed: Vec<usize>,
 }
 
-fn block_layout(s: &Settings, h: &[u8], nblocks: usize) -> Result<Blocks, String> {
+fn block_layout(s: &Settings, h: &[u8], nblocks: usize, want: usize) -> Result<Blocks, String> {
     let bs = header_word(s, h, 1);
     let last = header_word(s, h, 2);
     if nblocks > 0 && (bs == 0 || bs as usize > s.limit || last > bs) {
@@ -946,6 +948,12 @@ fn block_layout(s: &Settings, h: &[u8], nblocks: usize) -> Result<Blocks, String
             "compressed header declares {total} bytes, more than this file can hold"
         ));
     }
+    // Checked before decompressing anything: a wrong size is an error, not an allocation.
+    if total < want {
+        return Err(format!(
+            "the compressed header declares {total} bytes, but the counts need {want}"
+        ));
+    }
     let compressed = (0..nblocks)
         .map(|k| header_word(s, h, 3 + k) as usize)
         .collect();
@@ -957,7 +965,7 @@ fn header_size(s: &Settings) -> usize {
 }
 
 /// Raw appended data starting at an array's offset (`at` = its byte offset in the file).
-fn binary_raw(s: &Settings, app: &[u8], at: usize) -> Result<Vec<u8>, String> {
+fn binary_raw(s: &Settings, app: &[u8], at: usize, want: usize) -> Result<Vec<u8>, String> {
     let hs = header_size(s);
     let short = |what: &str, need: usize, have: usize| {
         format!("the file ends inside the {what}: {need} bytes needed from byte {at}, {have} there")
@@ -985,7 +993,7 @@ fn binary_raw(s: &Settings, app: &[u8], at: usize) -> Result<Vec<u8>, String> {
                 app.len(),
             )
         })?;
-    let layout = block_layout(s, &app[..hbytes], nblocks)?;
+    let layout = block_layout(s, &app[..hbytes], nblocks, want)?;
     let mut pos = hbytes;
     let mut out = Vec::new();
     for (k, (&size, &csize)) in layout.sizes.iter().zip(&layout.compressed).enumerate() {
@@ -1010,7 +1018,7 @@ fn binary_raw(s: &Settings, app: &[u8], at: usize) -> Result<Vec<u8>, String> {
 }
 
 /// Base64 text (whitespace removed) of one array.
-fn binary_base64(s: &Settings, text: &[u8]) -> Result<Vec<u8>, String> {
+fn binary_base64(s: &Settings, text: &[u8], want: usize) -> Result<Vec<u8>, String> {
     let hs = header_size(s);
     if s.compressor == Compressor::None {
         let (h, mut data) = split_base64(text, hs)?;
@@ -1050,7 +1058,7 @@ fn binary_base64(s: &Settings, text: &[u8]) -> Result<Vec<u8>, String> {
     if h.len() < hbytes {
         return Err("the base64 header is too short".into());
     }
-    let layout = block_layout(s, &h, nblocks)?;
+    let layout = block_layout(s, &h, nblocks, want)?;
     let mut pos = 0usize;
     let mut out = Vec::new();
     for (k, (&size, &csize)) in layout.sizes.iter().zip(&layout.compressed).enumerate() {
@@ -1093,6 +1101,21 @@ impl std::io::Write for Limited<'_> {
 /// Decompresses one block of `size` bytes, appending to `out`.
 fn decompress(c: Compressor, src: &[u8], size: usize, out: &mut Vec<u8>) -> Result<(), String> {
     let start = out.len();
+    // Neither zlib nor lz4 can expand by more than about 1032× and 255×: a block that claims
+    // more is corrupt, and refusing it here keeps allocation proportional to the input.
+    let ratio = match c {
+        Compressor::Zlib => Some(1100),
+        Compressor::Lz4 => Some(260),
+        _ => None,
+    };
+    if let Some(r) = ratio {
+        if size > src.len().saturating_mul(r).saturating_add(64) {
+            return Err(format!(
+                "{} compressed bytes cannot hold the {size} bytes the header declares",
+                src.len()
+            ));
+        }
+    }
     match c {
         Compressor::None => out.extend_from_slice(src),
         Compressor::Zlib => {
