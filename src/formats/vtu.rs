@@ -884,7 +884,7 @@ fn b64_decode(text: &[u8], what: &str) -> Result<Vec<u8>, String> {
 
 /// Base64 characters for `n` bytes (padded).
 fn b64_chars(n: usize) -> usize {
-    n.div_ceil(3) * 4
+    n.div_ceil(3).saturating_mul(4)
 }
 
 /// The header (`header_bytes` long) and data of a base64 array: separately encoded if the
@@ -1403,6 +1403,23 @@ pub fn save(vol: &Volume, path: &Path) -> Result<Vec<Warning>, Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn absurd_block_counts_are_errors() {
+        // Found by fuzzing: a block count near 2^64 in a base64 header.
+        assert_eq!(b64_chars(usize::MAX), usize::MAX);
+        let text = b64().encode([0xffu8; 8]);
+        let s = Settings {
+            name: "x.vtu",
+            big_endian: false,
+            header64: true,
+            compressor: Compressor::Zlib,
+            appended: None,
+            offsets: Vec::new(),
+            limit: 1 << 20,
+        };
+        assert!(binary_base64(&s, text.as_bytes(), 8).is_err());
+    }
 
     #[test]
     fn header_and_data_in_one_or_two_base64_streams() {
