@@ -186,6 +186,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
     let mut appended_encoding_raw = true;
     // Whether the XML was complete: `</VTKFile>` seen, or the appended data reached.
     let mut complete = false;
+    let mut nested = 0usize;
     loop {
         let pos = reader.buffer_position() as usize;
         let ev = reader.read_event().map_err(|e| {
@@ -196,8 +197,15 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
         })?;
         match ev {
             Event::Eof => break,
-            Event::Start(e) | Event::Empty(e) => {
-                let empty = matches!(bytes.get(reader.buffer_position() as usize - 2), Some(b'/'));
+            Event::Start(_) | Event::Empty(_) if current.is_some() => {
+                // Elements inside a DataArray (VTK's <InformationKey>, ranges): their text is
+                // not the array's data.
+                if matches!(ev, Event::Start(_)) {
+                    nested += 1;
+                }
+            }
+            Event::Start(ref e) | Event::Empty(ref e) => {
+                let empty = matches!(ev, Event::Empty(_));
                 match e.name().as_ref() {
                     b"VTKFile" => {
                         saw_vtkfile = true;
@@ -347,15 +355,16 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                 }
             }
             Event::Text(t) => {
-                if let Some(d) = &mut current {
+                if let (Some(d), 0) = (&mut current, nested) {
                     d.text.extend_from_slice(&t);
                 }
             }
             Event::CData(t) => {
-                if let Some(d) = &mut current {
+                if let (Some(d), 0) = (&mut current, nested) {
                     d.text.extend_from_slice(&t);
                 }
             }
+            Event::End(_) if nested > 0 => nested -= 1,
             Event::End(e) => match e.name().as_ref() {
                 b"DataArray" => {
                     if let Some(d) = current.take() {
@@ -1403,6 +1412,36 @@ pub fn save(vol: &Volume, path: &Path) -> Result<Vec<Warning>, Error> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn information_keys_inside_a_data_array_are_not_data() {
+        let text = r#"<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="1.0">
+  <UnstructuredGrid>
+    <Piece NumberOfPoints="4" NumberOfCells="1">
+      <Points>
+        <DataArray type="Float64" NumberOfComponents="3" format="ascii" RangeMin="0" RangeMax="1">
+          0 0 0  1 0 0  0 1 0  0 0 1
+          <InformationKey name="L2_NORM_RANGE" location="vtkDataArray" length="2">
+            <Value index="0">0</Value>
+            <Value index="1">1</Value>
+          </InformationKey>
+        </DataArray>
+      </Points>
+      <Cells>
+        <DataArray type="Int32" Name="connectivity" format="ascii">0 1 2 3</DataArray>
+        <DataArray type="Int32" Name="offsets" format="ascii">4</DataArray>
+        <DataArray type="UInt8" Name="types" format="ascii">10</DataArray>
+      </Cells>
+    </Piece>
+  </UnstructuredGrid>
+</VTKFile>
+"#;
+        let d = read(text.as_bytes(), "info.vtu").unwrap();
+        assert_eq!(d.nodes.len(), 4);
+        assert_eq!(d.nodes[3], [0.0, 0.0, 1.0]);
+        assert_eq!(d.cells.nodes(0), &[0, 1, 2, 3]);
+    }
 
     #[test]
     fn absurd_block_counts_are_errors() {
