@@ -209,7 +209,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                 match e.name().as_ref() {
                     b"VTKFile" => {
                         saw_vtkfile = true;
-                        let ty = attr(&e, b"type").unwrap_or_default();
+                        let ty = attr(e, b"type").unwrap_or_default();
                         if ty != "UnstructuredGrid" {
                             return Err(err(
                                 pos,
@@ -218,7 +218,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                                 ),
                             ));
                         }
-                        big_endian = match attr(&e, b"byte_order").as_deref() {
+                        big_endian = match attr(e, b"byte_order").as_deref() {
                             None | Some("LittleEndian") => false,
                             Some("BigEndian") => true,
                             Some(o) => {
@@ -230,7 +230,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                                 ));
                             }
                         };
-                        header64 = match attr(&e, b"header_type").as_deref() {
+                        header64 = match attr(e, b"header_type").as_deref() {
                             None | Some("UInt32") => false,
                             Some("UInt64") => true,
                             Some(h) => {
@@ -240,7 +240,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                                 ));
                             }
                         };
-                        compressor = match attr(&e, b"compressor").as_deref() {
+                        compressor = match attr(e, b"compressor").as_deref() {
                             None | Some("") => Compressor::None,
                             Some("vtkZLibDataCompressor") => Compressor::Zlib,
                             Some("vtkLZ4DataCompressor") => Compressor::Lz4,
@@ -257,7 +257,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                     }
                     b"Piece" => {
                         let count = |k: &[u8]| -> Result<usize, ParseError> {
-                            let v = attr(&e, k).ok_or_else(|| {
+                            let v = attr(e, k).ok_or_else(|| {
                                 err(
                                     pos,
                                     format!("<Piece> needs {}=\"…\"", String::from_utf8_lossy(k)),
@@ -286,7 +286,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                     b"FieldData" if !empty => section = Section::Other,
                     b"DataArray" => {
                         let line = line_of(bytes, pos);
-                        let ty_s = attr(&e, b"type").unwrap_or_default();
+                        let ty_s = attr(e, b"type").unwrap_or_default();
                         let ty = NumType::parse(&ty_s).ok_or_else(|| {
                             err(
                                 pos,
@@ -295,17 +295,17 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                                 ),
                             )
                         })?;
-                        let components = match attr(&e, b"NumberOfComponents") {
+                        let components = match attr(e, b"NumberOfComponents") {
                             None => 1,
                             Some(c) => c.trim().parse::<usize>().ok().filter(|&c| (1..=64).contains(&c)).ok_or_else(|| {
                                 err(pos, format!("NumberOfComponents=\"{c}\": expected a whole number 1…64"))
                             })?,
                         };
-                        let format = match attr(&e, b"format").as_deref() {
+                        let format = match attr(e, b"format").as_deref() {
                             Some("ascii") => DataFormat::Ascii,
                             Some("binary") => DataFormat::Binary,
                             Some("appended") => {
-                                let o = attr(&e, b"offset").unwrap_or_default();
+                                let o = attr(e, b"offset").unwrap_or_default();
                                 DataFormat::Appended(o.trim().parse::<u64>().map_err(|_| {
                                     err(pos, format!("DataArray format=\"appended\" needs offset=\"<bytes>\", found offset=\"{o}\""))
                                 })?)
@@ -323,7 +323,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                         let d = Decl {
                             section,
                             piece: pieces.len().saturating_sub(1),
-                            name: attr(&e, b"Name").unwrap_or_default(),
+                            name: attr(e, b"Name").unwrap_or_default(),
                             ty,
                             components,
                             format,
@@ -338,7 +338,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                     }
                     b"AppendedData" => {
                         complete = true;
-                        appended_encoding_raw = match attr(&e, b"encoding").as_deref() {
+                        appended_encoding_raw = match attr(e, b"encoding").as_deref() {
                             None | Some("raw") => true,
                             Some("base64") => false,
                             Some(x) => {
