@@ -203,6 +203,10 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
             }
         }
     }
+    // The cell list is no longer needed (only the types, for messages): free it before the
+    // mesh builds its adjacency, which keeps the peak memory of a load low.
+    let cell_types = cells.types;
+    drop((cells.offsets, cells.connectivity));
     if !skipped.is_empty() {
         let mut kinds: Vec<(u8, usize)> = skipped.into_iter().collect();
         kinds.sort_unstable();
@@ -235,7 +239,7 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
                 format!(
                     "cell {} ({}): {}",
                     c + 1,
-                    cell_type::name(cells.types[c]),
+                    cell_type::name(cell_types[c]),
                     e.detail()
                 ),
             )

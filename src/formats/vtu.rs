@@ -694,7 +694,7 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
         .checked_mul(d.ty.size())
         .filter(|&b| b <= s.limit)
         .ok_or_else(|| err(format!("{count} values are more than this file can hold")))?;
-    let data: Vec<u8> = match d.format {
+    let data: std::borrow::Cow<[u8]> = match d.format {
         DataFormat::Ascii => return ascii_values(s, d, count, &what),
         DataFormat::Binary => {
             let text: Vec<u8> = d
@@ -703,7 +703,7 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
                 .copied()
                 .filter(|b| !b.is_ascii_whitespace())
                 .collect();
-            binary_base64(s, &text, want_bytes).map_err(&err)?
+            binary_base64(s, &text, want_bytes).map_err(&err)?.into()
         }
         DataFormat::Appended(offset) => {
             let Some((app, start, raw)) = s.appended else {
@@ -731,7 +731,7 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
                     .copied()
                     .filter(|b| !b.is_ascii_whitespace())
                     .collect();
-                binary_base64(s, &text, want_bytes).map_err(&err)?
+                binary_base64(s, &text, want_bytes).map_err(&err)?.into()
             }
         }
     };
@@ -974,7 +974,12 @@ fn header_size(s: &Settings) -> usize {
 }
 
 /// Raw appended data starting at an array's offset (`at` = its byte offset in the file).
-fn binary_raw(s: &Settings, app: &[u8], at: usize, want: usize) -> Result<Vec<u8>, String> {
+fn binary_raw<'b>(
+    s: &Settings,
+    app: &'b [u8],
+    at: usize,
+    want: usize,
+) -> Result<std::borrow::Cow<'b, [u8]>, String> {
     let hs = header_size(s);
     let short = |what: &str, need: usize, have: usize| {
         format!("the file ends inside the {what}: {need} bytes needed from byte {at}, {have} there")
@@ -988,7 +993,8 @@ fn binary_raw(s: &Settings, app: &[u8], at: usize, want: usize) -> Result<Vec<u8
         if n > app.len() - hs {
             return Err(short("data", n, app.len() - hs));
         }
-        return Ok(app[hs..hs + n].to_vec());
+        // Uncompressed raw data are converted straight from the file's bytes.
+        return Ok(std::borrow::Cow::Borrowed(&app[hs..hs + n]));
     }
     let nblocks = usize::try_from(first).unwrap_or(usize::MAX);
     let hbytes = nblocks
@@ -1023,7 +1029,7 @@ fn binary_raw(s: &Settings, app: &[u8], at: usize, want: usize) -> Result<Vec<u8
         })?;
         pos += csize;
     }
-    Ok(out)
+    Ok(out.into())
 }
 
 /// Base64 text (whitespace removed) of one array.
