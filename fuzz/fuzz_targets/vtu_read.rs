@@ -4,7 +4,7 @@
 #![no_main]
 
 use libfuzzer_sys::fuzz_target;
-use vorang::formats::{build, vtu, vtu};
+use vorang::formats::{build, vtu};
 
 fuzz_target!(|data: &[u8]| {
     let desc = match vtu::read(data, "fuzz.vtu") {

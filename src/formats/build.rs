@@ -213,7 +213,7 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
         let total: usize = kinds.iter().map(|k| k.1).sum();
         let list: Vec<String> = kinds
             .iter()
-            .map(|(t, n)| format!("{n} {}", cell_type::name(*t)))
+            .map(|(t, n)| format!("{n} × {}", cell_type::name(*t)))
             .collect();
         warnings.push(Warning {
             file: source.clone(),

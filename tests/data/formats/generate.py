@@ -4,7 +4,7 @@ reads. The files are committed, so `cargo test` needs no Python; run this again 
 deliberate change:
 
     python3 -m venv /tmp/fmtvenv
-    /tmp/fmtvenv/bin/pip install meshio==5.3.5 numpy==1.26.4 lz4==4.4.5
+    /tmp/fmtvenv/bin/pip install meshio==5.3.5 numpy==1.26.4 lz4==4.4.5 gmsh==4.13.1
     /tmp/fmtvenv/bin/python tests/data/formats/generate.py
 
 Two meshes:
@@ -436,7 +436,37 @@ def write_msh41_with_entities():
         f.write("\n".join(lines) + "\n")
 
 
+def write_gmsh_native():
+    """Files written by Gmsh itself (the gmsh module): a block with a spherical inclusion, two
+    physical volumes (1 matrix, 2 inclusion) and physical surfaces, in 4.1 ASCII, 4.1 binary
+    and 2.2 binary. Their 2D elements must be skipped with a warning."""
+    import gmsh
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.model.add("native")
+    box = gmsh.model.occ.addBox(0, 0, 0, 2, 1, 1)
+    ball = gmsh.model.occ.addSphere(0.8, 0.5, 0.5, 0.3)
+    gmsh.model.occ.fragment([(3, box)], [(3, ball)])
+    gmsh.model.occ.synchronize()
+    vols = [t for d, t in gmsh.model.getEntities(3)]
+    masses = {t: gmsh.model.occ.getMass(3, t) for t in vols}
+    inner = min(masses, key=masses.get)
+    gmsh.model.addPhysicalGroup(3, [t for t in vols if t != inner], 1, "matrix")
+    gmsh.model.addPhysicalGroup(3, [inner], 2, "inclusion")
+    surfs = [t for d, t in gmsh.model.getBoundary([(3, inner)], oriented=False)]
+    gmsh.model.addPhysicalGroup(2, surfs, 3, "interface")
+    gmsh.option.setNumber("Mesh.MeshSizeMax", 0.35)
+    gmsh.model.mesh.generate(3)
+    for name, version, binary in [("gmsh_41_ascii.msh", 4.1, 0), ("gmsh_41_binary.msh", 4.1, 1),
+                                  ("gmsh_22_binary.msh", 2.2, 1), ("gmsh_22_ascii.msh", 2.2, 0)]:
+        gmsh.option.setNumber("Mesh.MshFileVersion", version)
+        gmsh.option.setNumber("Mesh.Binary", binary)
+        gmsh.write(out(name))
+    gmsh.finalize()
+
+
 if __name__ == "__main__":
+    write_gmsh_native()
     write_hmesh()
     write_msh41_with_entities()
     write_cube_variants()
