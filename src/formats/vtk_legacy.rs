@@ -528,3 +528,55 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
     }
     Ok(desc)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn vtk9_files_with_metadata_and_dataset_fields_read() {
+        // As VTK 9 writes them: dataset-level FIELD (TIME), 5.1 cells, METADATA blocks.
+        let text = "# vtk DataFile Version 5.1
+vtk output
+ASCII
+DATASET UNSTRUCTURED_GRID
+FIELD FieldData 1
+TIME 1 1 double
+0.5
+POINTS 4 float
+0 0 0 1 0 0 0 1 0
+0 0 1
+METADATA
+INFORMATION 0
+
+CELLS 2 4
+OFFSETS vtktypeint64
+0 4
+CONNECTIVITY vtktypeint64
+0 1 2 3
+CELL_TYPES 1
+10
+
+POINT_DATA 4
+SCALARS T float
+LOOKUP_TABLE default
+0 1 2 3
+METADATA
+INFORMATION 1
+NAME L2_NORM_RANGE LOCATION vtkDataArray
+DATA 2 0 3
+
+CELL_DATA 1
+FIELD FieldData 1
+mat 1 1 int
+7
+";
+        let d = read(text.as_bytes(), "v9.vtk").unwrap();
+        assert_eq!(d.nodes.len(), 4);
+        assert_eq!(d.cells.nodes(0), &[0, 1, 2, 3]);
+        assert_eq!(d.point_arrays.len(), 1);
+        assert_eq!(d.point_arrays[0].name, "T");
+        assert_eq!(d.cell_arrays[0].name, "mat");
+        assert_eq!(d.cell_arrays[0].values, ArrayValues::Int(vec![7]));
+    }
+}
