@@ -466,6 +466,11 @@ fn bad_vtu_inputs_name_the_file_and_the_line() {
             "non-finite",
         ),
         (
+            "tiny coordinate",
+            replace_once(&ascii, "0.0 0.0 0.0", "0.0 1e-300 0.0"),
+            "too small",
+        ),
+        (
             "wrong cell type for the offsets",
             replace_once(&ascii, ">\n10 10 10", ">\n12 10 10"),
             "needs 8 nodes",

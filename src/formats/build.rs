@@ -33,6 +33,9 @@ use crate::hypermesh::{DataType, ElementKind, Geometry, RawData, ScalarType, Val
 use crate::mesh::{EDGE_NODES, TetMesh};
 use crate::volume::{DataSet, Volume};
 
+/// The smallest non-zero coordinate magnitude accepted (see [`volume`]).
+pub const MIN_MAGNITUDE: f64 = 1e-50;
+
 /// The tetrahedra of a hexahedron, wedge or pyramid (VTK node order) under the smallest-node
 /// rule, as local node indices. `global` are the cell's global node numbers.
 pub fn split_cell(ty: u8, global: &[u64]) -> Vec<[usize; 4]> {
@@ -126,6 +129,22 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
                 "point {}: coordinate {c} is too large: up to ±{:e} are accepted",
                 i + 1,
                 crate::hypermesh::MAX_MAGNITUDE
+            ),
+        ));
+    }
+    // Orientation tests multiply three coordinate differences; below ~1e-50 those products
+    // underflow and a cell's orientation depends on its node order (found by fuzzing: a mesh
+    // that loads, written back, no longer loads). No real mesh needs such coordinates.
+    if let Some((i, c)) = nodes.iter().enumerate().find_map(|(i, p)| {
+        p.iter()
+            .find(|c| **c != 0.0 && c.abs() < MIN_MAGNITUDE)
+            .map(|c| (i, *c))
+    }) {
+        return Err(err(
+            points_line,
+            format!(
+                "point {}: coordinate {c:e} is too small: non-zero coordinates need a magnitude of at least {MIN_MAGNITUDE:e} (scale the mesh)",
+                i + 1
             ),
         ));
     }
