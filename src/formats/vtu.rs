@@ -552,6 +552,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                 ));
             };
             let mut prev = 0i64;
+            let conn_base = desc.cells.connectivity.len();
             for (i, (&o, &t)) in offs.iter().zip(&types).enumerate() {
                 if o < prev || o as usize > conn.len() {
                     return Err(ParseError::new(
@@ -604,13 +605,18 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                     }
                 }
                 desc.cells.types.push(t as u8);
-                desc.cells.connectivity.extend(
-                    nodes
-                        .iter()
-                        .map(|&n| (n.max(0) as u64).saturating_add(node_base)),
-                );
-                desc.cells.offsets.push(desc.cells.connectivity.len());
+                desc.cells.offsets.push(conn_base + o as usize);
                 prev = o;
+            }
+            // Validated: now the whole list, converted in place (no second copy of the
+            // largest array of the file).
+            let shifted = conn
+                .into_iter()
+                .map(|n| (n.max(0) as u64).saturating_add(node_base));
+            if desc.cells.connectivity.is_empty() {
+                desc.cells.connectivity = shifted.collect();
+            } else {
+                desc.cells.connectivity.extend(shifted);
             }
         }
         // Point and cell arrays, by name across pieces.
