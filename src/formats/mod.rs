@@ -329,8 +329,8 @@ pub fn load_volume(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
         Some(Format {
             read: Some(read), ..
         }) => {
-            let bytes = read_bytes_of(path)?;
-            let desc = read(&bytes, &name)?;
+            // The file's bytes are freed before the mesh is built (peak memory).
+            let desc = read(&read_bytes_of(path)?, &name)?;
             Ok(build::volume(desc)?)
         }
         None if looks_binary(&head) => Err(unknown_format(&name).into()),

@@ -522,28 +522,6 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
             }
             let types = decode(&settings, types_d, piece.cells)?;
             let offs = decode(&settings, off_d, piece.cells)?;
-            // The connectivity's length is what the last offset says.
-            let total = if piece.cells == 0 {
-                0
-            } else {
-                let last = offs.get(piece.cells - 1);
-                if !(0.0..=(1u64 << 48) as f64).contains(&last) || last.fract() != 0.0 {
-                    return Err(ParseError::new(
-                        name,
-                        off_d.line,
-                        format!("offsets: the last offset {last} is not a valid length"),
-                    ));
-                }
-                last as usize
-            };
-            let conn = decode(&settings, conn_d, total)?;
-            let ArrayValues::Int(conn) = conn else {
-                return Err(ParseError::new(
-                    name,
-                    conn_d.line,
-                    "connectivity must be an integer array",
-                ));
-            };
             let (ArrayValues::Int(offs), ArrayValues::Int(types)) = (offs, types) else {
                 return Err(ParseError::new(
                     name,
@@ -551,17 +529,19 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                     "offsets and types must be integer arrays",
                 ));
             };
-            let mut prev = 0i64;
+            // Types and offsets first, so that they are checked and stored compactly before
+            // the connectivity, the largest array, is decoded.
             let conn_base = desc.cells.connectivity.len();
+            let first_cell = desc.cells.types.len();
+            let mut prev = 0i64;
             for (i, (&o, &t)) in offs.iter().zip(&types).enumerate() {
-                if o < prev || o as usize > conn.len() {
+                if o < prev || o > 1 << 48 {
                     return Err(ParseError::new(
                         name,
                         off_d.line,
                         format!(
-                            "offsets: cell {} ends at {o}, before the previous cell's end {prev} or beyond the connectivity's {} entries",
-                            i + 1,
-                            conn.len()
+                            "offsets: cell {} ends at {o}, before the previous cell's end {prev}",
+                            i + 1
                         ),
                     ));
                 }
@@ -575,9 +555,8 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                         ),
                     ));
                 }
-                let nodes = &conn[prev as usize..o as usize];
                 if let Some(need) = cell_type::volume_nodes(t as u8) {
-                    if nodes.len() != need {
+                    if (o - prev) as usize != need {
                         return Err(ParseError::new(
                             name,
                             off_d.line,
@@ -585,21 +564,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                                 "offsets: cell {} is a {} (type {t}) and needs {need} nodes, but its offsets give it {}",
                                 i + 1,
                                 cell_type::name(t as u8),
-                                nodes.len()
-                            ),
-                        ));
-                    }
-                }
-                if let Some(&bad) = nodes.iter().find(|&&n| n < 0 || n as usize >= piece.points) {
-                    if cell_type::volume_nodes(t as u8).is_some() {
-                        return Err(ParseError::new(
-                            name,
-                            conn_d.line,
-                            format!(
-                                "connectivity: cell {} refers to point {bad}, but the piece has {} points (0-based indices 0…{})",
-                                i + 1,
-                                piece.points,
-                                piece.points as i64 - 1
+                                o - prev
                             ),
                         ));
                     }
@@ -607,6 +572,41 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                 desc.cells.types.push(t as u8);
                 desc.cells.offsets.push(conn_base + o as usize);
                 prev = o;
+            }
+            drop((offs, types));
+            // The connectivity's length is what the last offset says.
+            let conn = decode(&settings, conn_d, prev as usize)?;
+            let ArrayValues::Int(conn) = conn else {
+                return Err(ParseError::new(
+                    name,
+                    conn_d.line,
+                    "connectivity must be an integer array",
+                ));
+            };
+            for i in first_cell..desc.cells.types.len() {
+                let t = desc.cells.types[i];
+                if cell_type::volume_nodes(t).is_none() {
+                    continue;
+                }
+                let (a, b) = (
+                    desc.cells.offsets[i] - conn_base,
+                    desc.cells.offsets[i + 1] - conn_base,
+                );
+                if let Some(&bad) = conn[a..b]
+                    .iter()
+                    .find(|&&n| n < 0 || n as usize >= piece.points)
+                {
+                    return Err(ParseError::new(
+                        name,
+                        conn_d.line,
+                        format!(
+                            "connectivity: cell {} refers to point {bad}, but the piece has {} points (0-based indices 0…{})",
+                            i - first_cell + 1,
+                            piece.points,
+                            piece.points as i64 - 1
+                        ),
+                    ));
+                }
             }
             // Validated: now the whole list, converted in place (no second copy of the
             // largest array of the file).
@@ -700,7 +700,8 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
         .checked_mul(d.ty.size())
         .filter(|&b| b <= s.limit)
         .ok_or_else(|| err(format!("{count} values are more than this file can hold")))?;
-    let data: std::borrow::Cow<[u8]> = match d.format {
+    let mut sink = Sink::new(d.ty, s.big_endian, want_bytes);
+    match d.format {
         DataFormat::Ascii => return ascii_values(s, d, count, &what),
         DataFormat::Binary => {
             let text: Vec<u8> = d
@@ -709,7 +710,7 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
                 .copied()
                 .filter(|b| !b.is_ascii_whitespace())
                 .collect();
-            binary_base64(s, &text, want_bytes).map_err(&err)?.into()
+            binary_base64(s, &text, want_bytes, &mut sink).map_err(&err)?;
         }
         DataFormat::Appended(offset) => {
             let Some((app, start, raw)) = s.appended else {
@@ -725,7 +726,7 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
             }
             let o = offset.min(app.len() as u64) as usize;
             if raw {
-                binary_raw(s, &app[o..], start + o, want_bytes).map_err(&err)?
+                binary_raw(s, &app[o..], start + o, want_bytes, &mut sink).map_err(&err)?;
             } else {
                 let end = s
                     .offsets
@@ -737,28 +738,91 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
                     .copied()
                     .filter(|b| !b.is_ascii_whitespace())
                     .collect();
-                binary_base64(s, &text, want_bytes).map_err(&err)?.into()
+                binary_base64(s, &text, want_bytes, &mut sink).map_err(&err)?;
             }
         }
-    };
-    if data.len() < want_bytes {
+    }
+    if sink.seen < want_bytes {
         return Err(err(format!(
             "holds {} bytes, but {count} values of {:?} need {want_bytes}",
-            data.len(),
-            d.ty
+            sink.seen, d.ty
         )));
     }
-    if data.len() > want_bytes && !(d.section == Section::Cells && d.name == "offsets") {
+    if sink.seen > want_bytes && !(d.section == Section::Cells && d.name == "offsets") {
         return Err(err(format!(
             "holds {} bytes, but {count} values of {:?} need {want_bytes}: the array is longer than the counts say",
-            data.len(),
-            d.ty
+            sink.seen, d.ty
         )));
     }
-    convert(&data[..want_bytes], d.ty, s.big_endian).map_err(err)
+    sink.finish().map_err(err)
 }
 
-fn convert(data: &[u8], ty: NumType, big: bool) -> Result<ArrayValues, String> {
+/// Turns decoded bytes into values as they arrive (block by block for compressed data), so a
+/// large array never exists twice — once as bytes, once as numbers.
+struct Sink {
+    ty: NumType,
+    big: bool,
+    /// Bytes wanted; what arrives beyond is counted, not kept.
+    want: usize,
+    seen: usize,
+    carry: Vec<u8>,
+    out: ArrayValues,
+    error: Option<String>,
+}
+
+impl Sink {
+    fn new(ty: NumType, big: bool, want: usize) -> Sink {
+        let n = want / ty.size();
+        let out = match ty {
+            NumType::F32 => ArrayValues::F32(Vec::with_capacity(n)),
+            NumType::F64 => ArrayValues::F64(Vec::with_capacity(n)),
+            _ => ArrayValues::Int(Vec::with_capacity(n)),
+        };
+        Sink {
+            ty,
+            big,
+            want,
+            seen: 0,
+            carry: Vec::new(),
+            out,
+            error: None,
+        }
+    }
+
+    fn push(&mut self, bytes: &[u8]) {
+        let keep = bytes.len().min(self.want.saturating_sub(self.seen));
+        self.seen = self.seen.saturating_add(bytes.len());
+        let mut bytes = &bytes[..keep];
+        let size = self.ty.size();
+        if !self.carry.is_empty() {
+            let take = (size - self.carry.len()).min(bytes.len());
+            self.carry.extend_from_slice(&bytes[..take]);
+            bytes = &bytes[take..];
+            if self.carry.len() == size {
+                let c = std::mem::take(&mut self.carry);
+                self.convert(&c);
+            }
+        }
+        let whole = bytes.len() / size * size;
+        self.convert(&bytes[..whole]);
+        self.carry.extend_from_slice(&bytes[whole..]);
+    }
+
+    fn convert(&mut self, data: &[u8]) {
+        if let Err(e) = convert_into(data, self.ty, self.big, &mut self.out) {
+            self.error.get_or_insert(e);
+        }
+    }
+
+    fn finish(self) -> Result<ArrayValues, String> {
+        match self.error {
+            Some(e) => Err(e),
+            None => Ok(self.out),
+        }
+    }
+}
+
+fn convert_into(data: &[u8], ty: NumType, big: bool, out: &mut ArrayValues) -> Result<(), String> {
     let size = ty.size();
     let word = |chunk: &[u8]| -> [u8; 8] {
         let mut w = [0u8; 8];
@@ -772,18 +836,13 @@ fn convert(data: &[u8], ty: NumType, big: bool) -> Result<ArrayValues, String> {
         w
     };
     let chunks = data.chunks_exact(size);
-    Ok(match ty {
-        NumType::F32 => ArrayValues::F32(
-            chunks
-                .map(|c| {
-                    let w = word(c);
-                    f32::from_le_bytes([w[0], w[1], w[2], w[3]])
-                })
-                .collect(),
-        ),
-        NumType::F64 => ArrayValues::F64(chunks.map(|c| f64::from_le_bytes(word(c))).collect()),
-        _ => {
-            let mut out = Vec::with_capacity(data.len() / size);
+    match out {
+        ArrayValues::F32(v) => v.extend(chunks.map(|c| {
+            let w = word(c);
+            f32::from_le_bytes([w[0], w[1], w[2], w[3]])
+        })),
+        ArrayValues::F64(v) => v.extend(chunks.map(|c| f64::from_le_bytes(word(c)))),
+        ArrayValues::Int(out) => {
             for c in chunks {
                 let w = word(c);
                 let v = match ty {
@@ -801,9 +860,9 @@ fn convert(data: &[u8], ty: NumType, big: bool) -> Result<ArrayValues, String> {
                 };
                 out.push(v);
             }
-            ArrayValues::Int(out)
         }
-    })
+    }
+    Ok(())
 }
 
 fn ascii_values(
@@ -980,12 +1039,13 @@ fn header_size(s: &Settings) -> usize {
 }
 
 /// Raw appended data starting at an array's offset (`at` = its byte offset in the file).
-fn binary_raw<'b>(
+fn binary_raw(
     s: &Settings,
-    app: &'b [u8],
+    app: &[u8],
     at: usize,
     want: usize,
-) -> Result<std::borrow::Cow<'b, [u8]>, String> {
+    sink: &mut Sink,
+) -> Result<(), String> {
     let hs = header_size(s);
     let short = |what: &str, need: usize, have: usize| {
         format!("the file ends inside the {what}: {need} bytes needed from byte {at}, {have} there")
@@ -1000,7 +1060,8 @@ fn binary_raw<'b>(
             return Err(short("data", n, app.len() - hs));
         }
         // Uncompressed raw data are converted straight from the file's bytes.
-        return Ok(std::borrow::Cow::Borrowed(&app[hs..hs + n]));
+        sink.push(&app[hs..hs + n]);
+        return Ok(());
     }
     let nblocks = usize::try_from(first).unwrap_or(usize::MAX);
     let hbytes = nblocks
@@ -1026,6 +1087,7 @@ fn binary_raw<'b>(
                 app.len() - pos
             ));
         }
+        out.clear();
         decompress(s.compressor, &app[pos..pos + csize], size, &mut out).map_err(|e| {
             format!(
                 "compressed block {} of {nblocks} at byte {}: {e}",
@@ -1033,13 +1095,14 @@ fn binary_raw<'b>(
                 at + pos
             )
         })?;
+        sink.push(&out);
         pos += csize;
     }
-    Ok(out.into())
+    Ok(())
 }
 
 /// Base64 text (whitespace removed) of one array.
-fn binary_base64(s: &Settings, text: &[u8], want: usize) -> Result<Vec<u8>, String> {
+fn binary_base64(s: &Settings, text: &[u8], want: usize, sink: &mut Sink) -> Result<(), String> {
     let hs = header_size(s);
     if s.compressor == Compressor::None {
         let (h, mut data) = split_base64(text, hs)?;
@@ -1054,7 +1117,8 @@ fn binary_base64(s: &Settings, text: &[u8], want: usize) -> Result<Vec<u8>, Stri
             ));
         }
         data.truncate(n);
-        return Ok(data);
+        sink.push(&data);
+        return Ok(());
     }
     // The first header word (the number of blocks) decides the header's length.
     let c = b64_chars(hs);
@@ -1090,11 +1154,13 @@ fn binary_base64(s: &Settings, text: &[u8], want: usize) -> Result<Vec<u8>, Stri
                 data.len() - pos
             ));
         }
+        out.clear();
         decompress(s.compressor, &data[pos..pos + csize], size, &mut out)
             .map_err(|e| format!("compressed block {} of {nblocks}: {e}", k + 1))?;
+        sink.push(&out);
         pos += csize;
     }
-    Ok(out)
+    Ok(())
 }
 
 /// A writer that refuses to grow past a limit (bounds what a corrupt stream can produce).
@@ -1469,7 +1535,8 @@ mod tests {
             offsets: Vec::new(),
             limit: 1 << 20,
         };
-        assert!(binary_base64(&s, text.as_bytes(), 8).is_err());
+        let mut sink = Sink::new(NumType::F64, false, 8);
+        assert!(binary_base64(&s, text.as_bytes(), 8, &mut sink).is_err());
     }
 
     #[test]
