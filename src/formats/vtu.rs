@@ -772,11 +772,10 @@ struct Sink {
 
 impl Sink {
     fn new(ty: NumType, big: bool, want: usize) -> Sink {
-        let n = want / ty.size();
         let out = match ty {
-            NumType::F32 => ArrayValues::F32(Vec::with_capacity(n)),
-            NumType::F64 => ArrayValues::F64(Vec::with_capacity(n)),
-            _ => ArrayValues::Int(Vec::with_capacity(n)),
+            NumType::F32 => ArrayValues::F32(Vec::new()),
+            NumType::F64 => ArrayValues::F64(Vec::new()),
+            _ => ArrayValues::Int(Vec::new()),
         };
         Sink {
             ty,
@@ -786,6 +785,17 @@ impl Sink {
             carry: Vec::new(),
             out,
             error: None,
+        }
+    }
+
+    /// Makes room for `bytes` of data — called once the file is known to hold them (the
+    /// counts alone could ask for anything).
+    fn reserve(&mut self, bytes: usize) {
+        let n = bytes.min(self.want) / self.ty.size();
+        match &mut self.out {
+            ArrayValues::F32(v) => v.reserve_exact(n),
+            ArrayValues::F64(v) => v.reserve_exact(n),
+            ArrayValues::Int(v) => v.reserve_exact(n),
         }
     }
 
@@ -1002,6 +1012,27 @@ struct Blocks {
     compressed: Vec<usize>,
 }
 
+impl Blocks {
+    /// Whether the compressed blocks fit in the `available` bytes and each could expand to its
+    /// declared size (zlib ≤ ~1032×, lz4 ≤ 255×): only then is room reserved up front.
+    fn plausible(&self, c: Compressor, available: usize) -> bool {
+        let ratio = match c {
+            Compressor::Zlib => 1100,
+            Compressor::Lz4 => 260,
+            _ => return false,
+        };
+        self.compressed
+            .iter()
+            .fold(0usize, |a, &c| a.saturating_add(c))
+            <= available
+            && self
+                .sizes
+                .iter()
+                .zip(&self.compressed)
+                .all(|(&u, &c)| u <= c.saturating_mul(ratio).saturating_add(64))
+    }
+}
+
 fn block_layout(s: &Settings, h: &[u8], nblocks: usize, want: usize) -> Result<Blocks, String> {
     let bs = header_word(s, h, 1);
     let last = header_word(s, h, 2);
@@ -1060,6 +1091,7 @@ fn binary_raw(
             return Err(short("data", n, app.len() - hs));
         }
         // Uncompressed raw data are converted straight from the file's bytes.
+        sink.reserve(n);
         sink.push(&app[hs..hs + n]);
         return Ok(());
     }
@@ -1076,6 +1108,9 @@ fn binary_raw(
             )
         })?;
     let layout = block_layout(s, &app[..hbytes], nblocks, want)?;
+    if layout.plausible(s.compressor, app.len() - hbytes) {
+        sink.reserve(layout.sizes.iter().sum());
+    }
     let mut pos = hbytes;
     let mut out = Vec::new();
     for (k, (&size, &csize)) in layout.sizes.iter().zip(&layout.compressed).enumerate() {
@@ -1117,6 +1152,7 @@ fn binary_base64(s: &Settings, text: &[u8], want: usize, sink: &mut Sink) -> Res
             ));
         }
         data.truncate(n);
+        sink.reserve(n);
         sink.push(&data);
         return Ok(());
     }
@@ -1144,6 +1180,9 @@ fn binary_base64(s: &Settings, text: &[u8], want: usize, sink: &mut Sink) -> Res
         return Err("the base64 header is too short".into());
     }
     let layout = block_layout(s, &h, nblocks, want)?;
+    if layout.plausible(s.compressor, data.len()) {
+        sink.reserve(layout.sizes.iter().sum());
+    }
     let mut pos = 0usize;
     let mut out = Vec::new();
     for (k, (&size, &csize)) in layout.sizes.iter().zip(&layout.compressed).enumerate() {
