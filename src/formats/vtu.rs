@@ -467,8 +467,15 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
     let multi = pieces.len() > 1;
     let mut point_names: Vec<(String, usize, NumType)> = Vec::new();
     let mut cell_names: Vec<(String, usize, NumType)> = Vec::new();
+    // The arrays of each piece (one pass: a file with many pieces stays linear).
+    let mut by_piece: Vec<Vec<&Decl>> = vec![Vec::new(); pieces.len()];
+    for d in &decls {
+        if let Some(list) = by_piece.get_mut(d.piece) {
+            list.push(d);
+        }
+    }
     for (pi, piece) in pieces.iter().enumerate() {
-        let here: Vec<&Decl> = decls.iter().filter(|d| d.piece == pi).collect();
+        let here = std::mem::take(&mut by_piece[pi]);
         let node_base = desc.nodes.len() as u64;
         // Points.
         let pts = here
@@ -1558,6 +1565,38 @@ mod tests {
         assert_eq!(d.nodes.len(), 4);
         assert_eq!(d.nodes[3], [0.0, 0.0, 1.0]);
         assert_eq!(d.cells.nodes(0), &[0, 1, 2, 3]);
+    }
+
+    #[test]
+    fn pieces_are_concatenated() {
+        let piece = |z: f64, t: f64, id: i32| {
+            format!(
+                r#"<Piece NumberOfPoints="4" NumberOfCells="1">
+      <PointData><DataArray type="Float64" Name="T" format="ascii">{t} {t} {t} {t}</DataArray></PointData>
+      <CellData><DataArray type="Int32" Name="id" format="ascii">{id}</DataArray></CellData>
+      <Points><DataArray type="Float64" NumberOfComponents="3" format="ascii">0 0 {z} 1 0 {z} 0 1 {z} 0 0 {}</DataArray></Points>
+      <Cells>
+        <DataArray type="Int32" Name="connectivity" format="ascii">0 1 2 3</DataArray>
+        <DataArray type="Int32" Name="offsets" format="ascii">4</DataArray>
+        <DataArray type="UInt8" Name="types" format="ascii">10</DataArray>
+      </Cells>
+    </Piece>"#,
+                z + 1.0
+            )
+        };
+        let text = format!(
+            "<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\">\n<UnstructuredGrid>\n{}\n{}\n</UnstructuredGrid>\n</VTKFile>\n",
+            piece(0.0, 1.0, 5),
+            piece(5.0, 2.0, 6)
+        );
+        let d = read(text.as_bytes(), "two.vtu").unwrap();
+        assert_eq!(d.nodes.len(), 8);
+        assert_eq!(d.cells.nodes(1), &[4, 5, 6, 7]);
+        assert_eq!(d.point_arrays[0].values.len(), 8);
+        assert_eq!(d.point_arrays[0].values.get(5), 2.0);
+        assert_eq!(d.cell_arrays[0].values, ArrayValues::Int(vec![5, 6]));
+        let (vol, _) = crate::formats::build::volume(d).unwrap();
+        assert_eq!(vol.mesh.tet_count(), 2);
     }
 
     #[test]
