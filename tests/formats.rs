@@ -607,3 +607,14 @@ fn files_written_by_gmsh_itself_agree_across_versions_and_encodings() {
         }
     }
 }
+
+#[test]
+fn a_corrupt_xz_footer_is_an_error() {
+    // Found by fuzzing: lzma-rs overflows on a backward size of 2^32 − 1.
+    let bytes = std::fs::read(data("bad/xz_footer_overflow.vtu")).unwrap();
+    let e = formats::volume_from_bytes(&bytes, "xz.vtu").unwrap_err();
+    assert!(
+        e.message.contains("lzma") || e.message.contains("bytes"),
+        "{e}"
+    );
+}

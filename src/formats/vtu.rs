@@ -1280,8 +1280,16 @@ fn decompress(c: Compressor, src: &[u8], size: usize, out: &mut Vec<u8>) -> Resu
                 out: &mut *out,
                 left: size,
             };
-            lzma_rs::xz_decompress(&mut input, &mut w)
-                .map_err(|e| format!("corrupt lzma (xz) data: {e}"))?;
+            // lzma-rs 0.3 overflows an addition on a corrupt stream footer (backward size
+            // 2^32 − 1; found by fuzzing): a panic in builds with overflow checks, a wrapped
+            // value and an error without. A corrupt block is an error here either way.
+            let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                lzma_rs::xz_decompress(&mut input, &mut w)
+            }));
+            match result {
+                Ok(r) => r.map_err(|e| format!("corrupt lzma (xz) data: {e}"))?,
+                Err(_) => return Err("corrupt lzma (xz) data: the stream footer is invalid".into()),
+            }
         }
     }
     let n = out.len() - start;
