@@ -41,11 +41,17 @@ fn source_desc(data: &DataSet, f: &Field) -> String {
         .join(", ")
 }
 
-/// The report for a volume file (geometry and data).
+/// The report for a HyperMesh volume file (geometry and data); `encoding` is e.g. `ASCII 0.7`.
 pub fn describe_volume(vol: &Volume, encoding: &str) -> String {
+    describe_volume_as(vol, &format!("HyperMesh {encoding}"))
+}
+
+/// The report for a volume read from a file of the given format (e.g. `VTK XML
+/// UnstructuredGrid`).
+pub fn describe_volume_as(vol: &Volume, format: &str) -> String {
     let mut s = String::new();
     let m = &vol.mesh;
-    let _ = writeln!(s, "file         {} (HyperMesh {encoding})", vol.source);
+    let _ = writeln!(s, "file         {} ({format})", vol.source);
     let _ = writeln!(s, "nodes        {}", m.node_count());
     let _ = writeln!(s, "tetrahedra   {}", m.tet_count());
     if let Some(e) = &vol.edges {

@@ -47,6 +47,7 @@ pub mod accuracy;
 pub mod atomic;
 pub mod error;
 pub mod field;
+pub mod formats;
 pub mod framebuffer;
 pub mod hypermesh;
 pub mod info;

@@ -29,16 +29,18 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Print what a HyperMesh file holds: counts, bounding box, boundary, materials, fields.
+    /// Print what a mesh file holds: counts, bounding box, boundary, materials, fields (by
+    /// number and name, with their ranges).
     Info {
-        /// A HyperMesh file (ASCII or BINARY; volume or data-only).
+        /// A HyperMesh (ASCII or BINARY; volume or data-only), .vtu, .vtk or .msh file.
         file: PathBuf,
         /// Also look for cells that interpenetrate without sharing a face (exact tests on
         /// candidate pairs from a grid, at most 200 per cell); exit status 1 if any are found.
         #[arg(long)]
         check: bool,
     },
-    /// Convert a HyperMesh file between ASCII and BINARY, full and small layout (bin2Asc).
+    /// Convert a mesh file: any readable format to HyperMesh (ASCII or BINARY, full or small
+    /// layout; bin2Asc) or, for an output named *.vtu, to VTK XML (binary appended, zlib).
     Convert {
         input: PathBuf,
         output: PathBuf,
@@ -85,21 +87,37 @@ fn print_warnings(w: &[vorang::Warning]) {
 fn data_command(command: Command) -> Result<bool, Error> {
     match command {
         Command::Info { file, check } => {
-            let f = hypermesh::read_file(&file)?;
-            print_warnings(&f.warnings);
             let mut clean = true;
-            let text = if f.geometry.is_some() {
-                let encoding = format!("{} {}", f.encoding.keyword(), f.version);
-                let vol = Volume::from_file(f)?;
-                let mut text = info::describe_volume(&vol, &encoding);
-                if check {
-                    let (line, ok) = info::check_overlaps(&vol.mesh);
-                    text.push_str(&line);
-                    clean = ok;
+            let text = match vorang::formats::read_description_file(&file)? {
+                Some(desc) => {
+                    let format = desc.format.clone();
+                    let (vol, warnings) = vorang::formats::build::volume(desc)?;
+                    print_warnings(&warnings);
+                    let mut text = info::describe_volume_as(&vol, &format);
+                    if check {
+                        let (line, ok) = info::check_overlaps(&vol.mesh);
+                        text.push_str(&line);
+                        clean = ok;
+                    }
+                    text
                 }
-                text
-            } else {
-                info::describe_data_file(&f)
+                None => {
+                    let f = hypermesh::read_file(&file)?;
+                    print_warnings(&f.warnings);
+                    if f.geometry.is_some() {
+                        let encoding = format!("{} {}", f.encoding.keyword(), f.version);
+                        let vol = Volume::from_file(f)?;
+                        let mut text = info::describe_volume(&vol, &encoding);
+                        if check {
+                            let (line, ok) = info::check_overlaps(&vol.mesh);
+                            text.push_str(&line);
+                            clean = ok;
+                        }
+                        text
+                    } else {
+                        info::describe_data_file(&f)
+                    }
+                }
             };
             print!("{text}");
             if !clean {
@@ -109,12 +127,21 @@ fn data_command(command: Command) -> Result<bool, Error> {
         Command::Convert {
             input,
             output,
+            ascii,
             binary,
             small,
-            ..
         } => {
             let (vol, warnings) = Volume::load(&input)?;
             print_warnings(&warnings);
+            let format = vorang::formats::format_for_writing(&output);
+            let hypermesh_out = format.name == "HyperMesh";
+            if !hypermesh_out && (ascii || binary || small) {
+                return Err(Error::Invalid(format!(
+                    "--ascii, --binary and --small choose the HyperMesh encoding and layout; {} is written as {} (binary appended, zlib)",
+                    output.display(),
+                    format.name
+                )));
+            }
             let opts = WriteOptions {
                 encoding: if binary {
                     Encoding::Binary
@@ -123,12 +150,20 @@ fn data_command(command: Command) -> Result<bool, Error> {
                 },
                 layout: if small { Layout::Small } else { Layout::Full },
             };
-            hypermesh::save_volume(&vol, &output, opts)?;
+            let warnings = vorang::formats::save_volume(&vol, &output, opts)?;
+            print_warnings(&warnings);
+            let how = if hypermesh_out {
+                format!(
+                    "{} {}",
+                    opts.encoding.keyword(),
+                    if small { "small" } else { "full" }
+                )
+            } else {
+                format.name.to_string()
+            };
             eprintln!(
-                "wrote {} ({} {}, {} nodes, {} tetrahedra, {} fields)",
+                "wrote {} ({how}, {} nodes, {} tetrahedra, {} fields)",
                 output.display(),
-                opts.encoding.keyword(),
-                if small { "small" } else { "full" },
                 vol.mesh.node_count(),
                 vol.mesh.tet_count(),
                 vol.data.fields.len()

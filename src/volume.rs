@@ -37,12 +37,10 @@ pub struct Volume {
 }
 
 impl Volume {
-    /// Reads a HyperMesh file with geometry. Warnings (e.g. re-oriented cells) are returned,
-    /// not printed.
+    /// Reads a mesh file of any supported format (HyperMesh, `.vtu`, `.vtk`, `.msh`; see
+    /// [`crate::formats`]). Warnings (e.g. re-oriented cells) are returned, not printed.
     pub fn load(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
-        let file = hypermesh::read_file(path)?;
-        let warnings = file.warnings.clone();
-        Ok((Volume::from_file(file)?, warnings))
+        crate::formats::load_volume(path)
     }
 
     /// Builds a volume from a parsed file; fails for a data-only file.
@@ -274,6 +272,59 @@ impl Volume {
                 self.data = previous;
                 return Err(e);
             }
+        }
+        Ok(())
+    }
+
+    /// `data [+] FILE` for a file of another format (.vtu, .vtk, .msh): its mesh must be this
+    /// grid's (same node and tetrahedron counts, same cells); its fields replace or join this
+    /// volume's. On any error nothing changes.
+    pub fn attach_fields_of(&mut self, other: Volume, append: bool) -> Result<(), ParseError> {
+        let err = |msg: String| ParseError::new(&other.source, 1, msg);
+        if other.mesh.node_count() != self.mesh.node_count()
+            || other.mesh.tet_count() != self.mesh.tet_count()
+        {
+            return Err(err(format!(
+                "its mesh has {} nodes and {} tetrahedra, but the loaded grid has {} and {}; 'data' needs the same mesh",
+                other.mesh.node_count(),
+                other.mesh.tet_count(),
+                self.mesh.node_count(),
+                self.mesh.tet_count()
+            )));
+        }
+        if other.mesh.tets() != self.mesh.tets() {
+            return Err(err(
+                "its cells are not the loaded grid's cells (same counts, other nodes); 'data' needs the same mesh".into(),
+            ));
+        }
+        let needs_edges = other.data.fields.iter().any(|f| {
+            other.data.raw[f.sources[0]].kind == ElementKind::Edge
+                || f.sources
+                    .iter()
+                    .any(|&s| other.data.raw[s].kind == ElementKind::Edge)
+        });
+        if needs_edges && (other.edges != self.edges || other.tet_edges != self.tet_edges) {
+            return Err(err(
+                "its fields live on edges (quadratic cells) that the loaded grid does not list the same way; load it with 'volume' instead".into(),
+            ));
+        }
+        let mut data = other.data;
+        if append {
+            let offset = self.data.raw.len();
+            for f in &mut data.fields {
+                for s in &mut f.sources {
+                    *s += offset;
+                }
+            }
+            let mut merged = self.data.clone();
+            merged.raw.append(&mut data.raw);
+            merged.fields.append(&mut data.fields);
+            self.data = merged;
+        } else {
+            data.materials = self.data.materials.clone();
+            data.counts = self.data.counts;
+            data.count_lines = self.data.count_lines;
+            self.data = data;
         }
         Ok(())
     }

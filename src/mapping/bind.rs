@@ -123,8 +123,12 @@ impl Binder<'_> {
 
     fn bind<T: Shading + ?Sized>(&mut self, map: &MapFile<T>) -> Result<Layout, ParseError> {
         let file = map.file.as_str();
-        let category = match map.category {
-            Some((n, line)) => {
+        let category = match &map.category {
+            Some((r, line)) => {
+                let line = *line;
+                let n = r
+                    .resolve(self.vol)
+                    .map_err(|m| ParseError::new(file, line, format!("CategoryField {r}: {m}")))?;
                 let f = self
                     .vol
                     .field(n)
@@ -151,7 +155,11 @@ impl Binder<'_> {
                 lines.push(None);
                 continue;
             }
-            let n = l.field.unwrap_or(map.data_field);
+            let r = l.field.as_ref().unwrap_or(&map.data_field);
+            let n = r.resolve(self.vol).map_err(|m| match l.field {
+                Some(_) => ParseError::new(file, l.line, format!("{}: field:{r}: {m}", l.name)),
+                None => ParseError::new(file, map.data_field_line, format!("DataField {r}: {m}")),
+            })?;
             let Some(f) = self.vol.field(n) else {
                 return Err(match l.field {
                     Some(_) => self.no_field(file, l.line, &format!("{}: field:", l.name), n),

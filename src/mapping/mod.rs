@@ -209,13 +209,73 @@ impl Interval {
     }
 }
 
+/// How a map file names a field: by number (`DataField 2`, `field:2`) or by its name in
+/// double quotes (`DataField "temperature"`, `field:"material"`), matched exactly against the
+/// names the volume's file gave its fields (SPEC §8 **Decision**). Names are resolved when the
+/// map is bound to a volume, so one map file serves every file whose fields carry that name.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum FieldRef {
+    Number(usize),
+    Name(String),
+}
+
+impl FieldRef {
+    /// The field number in `vol`; `Err` lists the names the volume has.
+    pub fn resolve(&self, vol: &crate::volume::Volume) -> Result<usize, String> {
+        match self {
+            FieldRef::Number(n) => Ok(*n),
+            FieldRef::Name(name) => vol
+                .data
+                .fields
+                .iter()
+                .position(|f| f.name.as_deref() == Some(name.as_str()))
+                .ok_or_else(|| {
+                    let names: Vec<String> = vol
+                        .data
+                        .fields
+                        .iter()
+                        .enumerate()
+                        .filter_map(|(i, f)| f.name.as_ref().map(|n| format!("{i} \"{n}\"")))
+                        .collect();
+                    if names.is_empty() {
+                        format!(
+                            "the volume {} has no field named \"{name}\": its fields have no names",
+                            vol.source
+                        )
+                    } else {
+                        format!(
+                            "the volume {} has no field named \"{name}\"; its named fields are {}",
+                            vol.source,
+                            names.join(", ")
+                        )
+                    }
+                }),
+        }
+    }
+}
+
+impl std::fmt::Display for FieldRef {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            FieldRef::Number(n) => write!(f, "{n}"),
+            FieldRef::Name(s) => write!(f, "\"{s}\""),
+        }
+    }
+}
+
+impl From<usize> for FieldRef {
+    fn from(n: usize) -> Self {
+        FieldRef::Number(n)
+    }
+}
+
 /// One method line of a map file.
 #[derive(Debug)]
 pub struct MethodLine<T: ?Sized> {
     pub name: &'static str,
     pub method: Arc<T>,
-    /// `field:n`; `None` = `field:global` (the map's DataField).
-    pub field: Option<usize>,
+    /// `field:n` or `field:"name"`; `None` = `field:global` (the map's DataField).
+    pub field: Option<FieldRef>,
     /// `from:`/`to:`; `None` = matches every category value.
     pub interval: Option<Interval>,
     /// 1-based line in the map file.
@@ -227,11 +287,11 @@ pub struct MethodLine<T: ?Sized> {
 pub struct MapFile<T: ?Sized> {
     /// The file name as given (`<default>` for the built-in map).
     pub file: String,
-    pub data_field: usize,
+    pub data_field: FieldRef,
     /// The line of `DataField` (1 if absent: the default applies to the whole file).
     pub data_field_line: usize,
-    /// `CategoryField n` and its line.
-    pub category: Option<(usize, usize)>,
+    /// `CategoryField n` (or `"name"`) and its line.
+    pub category: Option<(FieldRef, usize)>,
     pub lines: Vec<MethodLine<T>>,
 }
 
@@ -242,7 +302,7 @@ impl<T: ?Sized> Clone for MethodLine<T> {
         MethodLine {
             name: self.name,
             method: Arc::clone(&self.method),
-            field: self.field,
+            field: self.field.clone(),
             interval: self.interval,
             line: self.line,
         }
@@ -253,9 +313,9 @@ impl<T: ?Sized> Clone for MapFile<T> {
     fn clone(&self) -> Self {
         MapFile {
             file: self.file.clone(),
-            data_field: self.data_field,
+            data_field: self.data_field.clone(),
             data_field_line: self.data_field_line,
-            category: self.category,
+            category: self.category.clone(),
             lines: self.lines.clone(),
         }
     }
@@ -284,7 +344,7 @@ impl AlphaMap {
 fn default_map<T: ?Sized>(method: Arc<T>, name: &'static str) -> MapFile<T> {
     MapFile {
         file: "<default>".into(),
-        data_field: 0,
+        data_field: FieldRef::Number(0),
         data_field_line: 1,
         category: None,
         lines: vec![MethodLine {

@@ -22,7 +22,7 @@ use std::path::Path;
 
 use super::block::{ParamBlock, Row};
 use super::{
-    ALPHA_METHODS, AlphaShading, COLOR_METHODS, ColorShading, Interval, MapFile, MapKind,
+    ALPHA_METHODS, AlphaShading, COLOR_METHODS, ColorShading, FieldRef, Interval, MapFile, MapKind,
     MethodInfo, MethodLine, names,
 };
 use crate::error::{Error, ParseError, Warning};
@@ -58,10 +58,62 @@ pub fn read_map<T: Registry + ?Sized>(path: &Path) -> Result<(MapFile<T>, Vec<Wa
 struct PendingLine {
     info: &'static str,
     index: usize,
-    field: Option<usize>,
+    field: Option<FieldRef>,
     interval: Option<Interval>,
     marker: Option<String>,
     line: usize,
+}
+
+/// The part of a line before a `#` comment; a `#` inside a quoted field name is part of it.
+fn strip_comment(line: &str) -> &str {
+    let mut quoted = false;
+    for (i, c) in line.char_indices() {
+        match c {
+            '"' => quoted = !quoted,
+            '#' if !quoted => return &line[..i],
+            _ => {}
+        }
+    }
+    line
+}
+
+/// Whitespace-separated words, where a double-quoted name (`"heat flux"`, also after a key as
+/// in `field:"heat flux"`) stays one word with its quotes. `Err` for an unclosed quote.
+fn split_words(content: &str) -> Result<Vec<&str>, ()> {
+    let mut words = Vec::new();
+    let mut start: Option<usize> = None;
+    let mut quoted = false;
+    for (i, c) in content.char_indices() {
+        if c == '"' {
+            quoted = !quoted;
+            start.get_or_insert(i);
+        } else if c.is_whitespace() && !quoted {
+            if let Some(s) = start.take() {
+                words.push(&content[s..i]);
+            }
+        } else {
+            start.get_or_insert(i);
+        }
+    }
+    if quoted {
+        return Err(());
+    }
+    if let Some(s) = start {
+        words.push(&content[s..]);
+    }
+    Ok(words)
+}
+
+/// A field reference word: a whole number ≥ 0 or a name in double quotes (the name is taken
+/// exactly as written between the quotes).
+fn field_ref(word: &str) -> Option<FieldRef> {
+    if let Some(inner) = word.strip_prefix('"').and_then(|w| w.strip_suffix('"')) {
+        if inner.is_empty() || inner.contains('"') {
+            return None;
+        }
+        return Some(FieldRef::Name(inner.to_string()));
+    }
+    word.parse::<usize>().ok().map(FieldRef::Number)
 }
 
 /// Parses map text; `file` labels messages.
@@ -77,15 +129,15 @@ pub fn parse_map<T: Registry + ?Sized>(
     let title = T::KIND.title();
     check_title::<T>(file, lines.next().map(|(_, l)| l))?;
 
-    let mut data_field: Option<(usize, usize)> = None;
-    let mut category: Option<(usize, usize)> = None;
+    let mut data_field: Option<(FieldRef, usize)> = None;
+    let mut category: Option<(FieldRef, usize)> = None;
     let mut pending: Vec<PendingLine> = Vec::new();
     let mut blocks: HashMap<String, ParamBlock> = HashMap::new();
     let mut current: Option<ParamBlock> = None;
     let mut warnings = Vec::new();
 
     for (n, raw) in lines {
-        let content = raw.split('#').next().unwrap_or("").trim();
+        let content = strip_comment(raw).trim();
         if content.is_empty() {
             continue;
         }
@@ -140,7 +192,13 @@ pub fn parse_map<T: Registry + ?Sized>(
             block.rows.push(Row { line: n, numbers });
             continue;
         }
-        let mut words = content.split_whitespace();
+        let Ok(all_words) = split_words(content) else {
+            return Err(err(
+                n,
+                "a field name in double quotes is not closed: expected e.g. \"temperature\"".into(),
+            ));
+        };
+        let mut words = all_words.into_iter();
         let Some(first) = words.next() else { continue };
         match first {
             "DataField" | "CategoryField" => {
@@ -155,11 +213,13 @@ pub fn parse_map<T: Registry + ?Sized>(
                         format!("{first} is given twice (first on line {l})"),
                     ));
                 }
-                let v = words.next().and_then(|w| w.parse::<usize>().ok());
+                let v = words.next().and_then(field_ref);
                 let (Some(v), None) = (v, words.next()) else {
                     return Err(err(
                         n,
-                        format!("expected '{first} <field number>' (a whole number ≥ 0)"),
+                        format!(
+                            "expected '{first} <field number>' (a whole number ≥ 0) or '{first} \"<field name>\"'"
+                        ),
                     ));
                 };
                 *slot = Some((v, n));
@@ -246,7 +306,7 @@ pub fn parse_map<T: Registry + ?Sized>(
             line: p.line,
         });
     }
-    let (data_field, data_field_line) = data_field.unwrap_or((0, 1));
+    let (data_field, data_field_line) = data_field.unwrap_or((FieldRef::Number(0), 1));
     Ok((
         MapFile {
             file: file.to_string(),
@@ -298,7 +358,7 @@ fn method_options(
     name: &'static str,
 ) -> Result<PendingLine, ParseError> {
     let err = |msg: String| ParseError::new(file, n, msg);
-    let mut field: Option<Option<usize>> = None;
+    let mut field: Option<Option<FieldRef>> = None;
     let mut from: Option<f64> = None;
     let mut to: Option<f64> = None;
     let mut marker: Option<String> = None;
@@ -340,9 +400,9 @@ fn method_options(
                 }
                 field = Some(match value {
                     "global" => None,
-                    v => Some(v.parse::<usize>().map_err(|_| {
+                    v => Some(field_ref(v).ok_or_else(|| {
                         err(format!(
-                            "{name}: expected field:global or field:<number>, found field:{v}"
+                            "{name}: expected field:global or field:<number>, found field:{v} (a field name goes in double quotes: field:\"name\")"
                         ))
                     })?),
                 });
@@ -398,9 +458,9 @@ mod tests {
             "# VoRANG Colormap 1.0\nDataField 0\nCategoryField 1\n\nSIMPLE_EMITTER field:global from:0 to:6 @1\nSIMPLE_EMITTER field:global from:7 to:9 @1\nCONST_CELL field:1 from:6 to:7 @2\n\n@1\n0 0 0      0\n0 0 0      5\n0.5 0.1 0  7\n1 0.3 0    10\n10 7 0     12.0\n15 12 0    12.2\n25 25 0    12.3537998\n\n@2\n0 1 5      6\n",
         )
         .unwrap();
-        assert_eq!(m.category, Some((1, 3)));
+        assert_eq!(m.category, Some((FieldRef::Number(1), 3)));
         assert_eq!(m.lines.len(), 3);
-        assert_eq!(m.lines[2].field, Some(1));
+        assert_eq!(m.lines[2].field, Some(FieldRef::Number(1)));
         assert_eq!(
             m.lines[0].interval,
             Some(Interval {
@@ -417,9 +477,32 @@ mod tests {
     }
 
     #[test]
+    fn fields_may_be_named_in_double_quotes() {
+        let m = color(
+            "# VoRANG Colormap 1.0\nDataField \"temperature\"  # the solution\nCategoryField \"material # 2\"\nSIMPLE_EMITTER from:0 to:1 @1\nCONST_CELL field:\"heat flux\" from:1 @2\nCONST_CELL field: \"material\" from:2 @2\n@1\n0 0 0 0\n1 1 1 1\n@2\n1 0 0 1\n",
+        )
+        .unwrap();
+        assert_eq!(m.data_field, FieldRef::Name("temperature".into()));
+        assert_eq!(m.category, Some((FieldRef::Name("material # 2".into()), 3)));
+        assert_eq!(m.lines[1].field, Some(FieldRef::Name("heat flux".into())));
+        assert_eq!(m.lines[2].field, Some(FieldRef::Name("material".into())));
+        for bad in [
+            "DataField temperature",
+            "DataField \"temperature",
+            "DataField \"\"",
+        ] {
+            let e = color(&format!(
+                "# VoRANG Colormap 1.0\n{bad}\nCONSTANT @1\n@1\n1 0 0\n"
+            ))
+            .unwrap_err();
+            assert_eq!(e.line, 2, "{bad}: {e}");
+        }
+    }
+
+    #[test]
     fn options_may_have_a_space_after_the_colon() {
         let m = color("# VoRANG Colormap 1.0\nCategoryField 2\nCONSTANT field: 3 from: -1 to: 2.5 @a\n@a\n1 2 3\n").unwrap();
-        assert_eq!(m.lines[0].field, Some(3));
+        assert_eq!(m.lines[0].field, Some(FieldRef::Number(3)));
         assert_eq!(
             m.lines[0].interval,
             Some(Interval {

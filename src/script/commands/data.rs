@@ -12,7 +12,7 @@ use crate::volume::Volume;
 pub const VOLUME: CommandInfo = CommandInfo {
     name: "volume",
     usage: "file",
-    summary: "load a HyperMesh grid with its data; mappings, transforms and camera return to their defaults",
+    summary: "load a grid with its data (HyperMesh, VTK .vtu/.vtk or Gmsh .msh); mappings, transforms and camera return to their defaults",
     details: "If the file cannot be read, the previous volume stays loaded.",
     run: |s: &mut Session, c: &Call| {
         c.expect(1..=1)?;
@@ -49,8 +49,30 @@ pub const DATA: CommandInfo = CommandInfo {
         let Some(vol) = s.volume.as_mut() else {
             return Err("data: no volume loaded: use 'volume file' first".into());
         };
-        let file =
-            hypermesh::read_file(&c.path(if append { 1 } else { 0 })).map_err(|e| e.to_string())?;
+        let path = c.path(if append { 1 } else { 0 });
+        if let Some(desc) =
+            crate::formats::read_description_file(&path).map_err(|e| e.to_string())?
+        {
+            let (other, warnings) =
+                crate::formats::build::volume(desc).map_err(|e| e.to_string())?;
+            let mut next = (**vol).clone();
+            next.attach_fields_of(other, append)
+                .map_err(|e| e.to_string())?;
+            let fields = next.data.fields.len();
+            *vol = Arc::new(next);
+            for w in warnings {
+                s.reporter.warn(&w.to_string());
+            }
+            if !append {
+                s.colormap = ColorMap::default_map();
+                s.alphamap = AlphaMap::default_map();
+            }
+            return Ok(format!(
+                "{fields} field{}",
+                if fields == 1 { "" } else { "s" }
+            ));
+        }
+        let file = hypermesh::read_file(&path).map_err(|e| e.to_string())?;
         if file.geometry.is_some() {
             return Err(format!(
                 "data: {} holds a grid; 'data' loads data-only files (use 'volume' for a grid with its data)",
@@ -99,8 +121,8 @@ fn options(c: &Call, from: usize, allow_small: bool) -> Result<WriteOptions, Str
 pub const SAVE_VOLUME: CommandInfo = CommandInfo {
     name: "save_volume",
     usage: "file ?binary|ascii? ?small?",
-    summary: "write the volume as HyperMesh: full layout (nodes, triangles, tetrahedra by triangles, data) or small (nodes, tetrahedra by nodes, data-carrying elements)",
-    details: "Default: ascii, full layout. Writing then reading gives back the same grid and fields.",
+    summary: "write the volume as HyperMesh: full layout (nodes, triangles, tetrahedra by triangles, data) or small (nodes, tetrahedra by nodes, data-carrying elements); a name ending in .vtu writes VTK XML (binary appended, zlib)",
+    details: "Default: ascii, full layout. Writing then reading gives back the same grid and fields. For .vtu, Linear fields become point arrays and Constant fields cell arrays; other fields are left out with a warning.",
     run: |s: &mut Session, c: &Call| {
         c.expect(1..=3)?;
         let opts = options(c, 1, true)?;
@@ -109,7 +131,18 @@ pub const SAVE_VOLUME: CommandInfo = CommandInfo {
             .as_ref()
             .ok_or("save_volume: no volume loaded: use 'volume file' first")?;
         let path = c.path(0);
-        hypermesh::save_volume(vol, &path, opts).map_err(|e| e.to_string())?;
+        let format = crate::formats::format_for_writing(&path);
+        if format.name != "HyperMesh" && c.args().len() > 1 {
+            return Err(format!(
+                "save_volume: binary/ascii/small choose the HyperMesh encoding; {} is written as {} (binary appended, zlib)",
+                path.display(),
+                format.name
+            ));
+        }
+        let warnings = crate::formats::save_volume(vol, &path, opts).map_err(|e| e.to_string())?;
+        for w in warnings {
+            s.reporter.warn(&w.to_string());
+        }
         Ok(path.display().to_string())
     },
 };

@@ -1,0 +1,466 @@
+//! Mesh file formats as codecs: one module per format, each producing the same format-neutral
+//! [`MeshDescription`] (nodes, cells with VTK cell types, named point and cell arrays), and one
+//! registry ([`FORMATS`]) that maps content (magic bytes, header) and file-name extension to a
+//! reader and a writer. [`Volume`]s are built from a description alone ([`build`]), so a new
+//! format is one new file and one table line; nothing else learns about it.
+//!
+//! HyperMesh, the thesis's own format, keeps its dedicated reader ([`crate::hypermesh`]): it
+//! carries more than a description can (edges, triangles, materials, edge-element and
+//! analytic fields, denominators), and its behaviour and messages are fixed by SPEC §7. The
+//! registry lists it so that detection and "expected one of" messages cover every format.
+//!
+//! Format detection looks at the content first (`<VTKFile` for VTK XML, `# vtk DataFile` for
+//! legacy VTK, `$MeshFormat` for Gmsh, `# HyperMesh` for HyperMesh); the extension only decides
+//! when the content is not recognised, so a mis-named file still loads and a file whose
+//! content no reader recognises gets a clear error naming the formats tried.
+
+pub mod build;
+pub mod msh;
+mod text;
+pub mod vtk_legacy;
+pub mod vtu;
+
+use std::path::Path;
+
+use crate::error::{Error, ParseError, Warning};
+use crate::volume::Volume;
+
+/// VTK cell type numbers (the ones VoRANG turns into tetrahedra, and a few it names in
+/// warnings). Gmsh element types are translated to these by the `.msh` reader.
+pub mod cell_type {
+    pub const VERTEX: u8 = 1;
+    pub const LINE: u8 = 3;
+    pub const TRIANGLE: u8 = 5;
+    pub const QUAD: u8 = 9;
+    pub const TETRA: u8 = 10;
+    pub const HEXAHEDRON: u8 = 12;
+    pub const WEDGE: u8 = 13;
+    pub const PYRAMID: u8 = 14;
+    pub const QUADRATIC_TETRA: u8 = 24;
+
+    /// Number of nodes of the volume cell types VoRANG reads, `None` for the others.
+    pub fn volume_nodes(t: u8) -> Option<usize> {
+        match t {
+            TETRA => Some(4),
+            HEXAHEDRON => Some(8),
+            WEDGE => Some(6),
+            PYRAMID => Some(5),
+            QUADRATIC_TETRA => Some(10),
+            _ => None,
+        }
+    }
+
+    /// A readable name for messages.
+    pub fn name(t: u8) -> String {
+        match t {
+            VERTEX => "vertex".into(),
+            LINE => "line".into(),
+            TRIANGLE => "triangle".into(),
+            QUAD => "quad".into(),
+            TETRA => "tetrahedron".into(),
+            HEXAHEDRON => "hexahedron".into(),
+            WEDGE => "wedge".into(),
+            PYRAMID => "pyramid".into(),
+            QUADRATIC_TETRA => "quadratic tetrahedron".into(),
+            other => format!("VTK cell type {other}"),
+        }
+    }
+}
+
+/// The values of one named array, element-major then component.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ArrayValues {
+    /// Any integer type of the file.
+    Int(Vec<i64>),
+    F32(Vec<f32>),
+    F64(Vec<f64>),
+}
+
+impl ArrayValues {
+    pub fn len(&self) -> usize {
+        match self {
+            ArrayValues::Int(v) => v.len(),
+            ArrayValues::F32(v) => v.len(),
+            ArrayValues::F64(v) => v.len(),
+        }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    pub fn get(&self, i: usize) -> f64 {
+        match self {
+            ArrayValues::Int(v) => v[i] as f64,
+            ArrayValues::F32(v) => f64::from(v[i]),
+            ArrayValues::F64(v) => v[i],
+        }
+    }
+}
+
+/// A named point or cell array.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Array {
+    pub name: String,
+    pub components: usize,
+    pub values: ArrayValues,
+    /// Where it was declared (1-based line; for binary files the line of the header that names
+    /// it), for messages.
+    pub line: usize,
+}
+
+impl Array {
+    /// Number of elements (points or cells) it holds values for.
+    pub fn elements(&self) -> usize {
+        self.values.len() / self.components.max(1)
+    }
+}
+
+/// Cells as VTK stores them: a type per cell and a flat connectivity list, cell `i` using
+/// `connectivity[offsets[i]..offsets[i + 1]]` (so `offsets` has one entry more than `types`).
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Cells {
+    pub types: Vec<u8>,
+    pub offsets: Vec<usize>,
+    /// 0-based node indices.
+    pub connectivity: Vec<u64>,
+}
+
+impl Cells {
+    pub fn len(&self) -> usize {
+        self.types.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.types.is_empty()
+    }
+
+    /// The nodes of cell `i`.
+    pub fn nodes(&self, i: usize) -> &[u64] {
+        &self.connectivity[self.offsets[i]..self.offsets[i + 1]]
+    }
+
+    /// Appends one cell.
+    pub fn push(&mut self, ty: u8, nodes: &[u64]) {
+        if self.offsets.is_empty() {
+            self.offsets.push(0);
+        }
+        self.types.push(ty);
+        self.connectivity.extend_from_slice(nodes);
+        self.offsets.push(self.connectivity.len());
+    }
+}
+
+/// What every reader produces: a mesh with named arrays, independent of the file format.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct MeshDescription {
+    /// The file name as given, for messages.
+    pub source: String,
+    /// The format's name, for `vorang info`.
+    pub format: String,
+    pub nodes: Vec<[f64; 3]>,
+    /// Whether every coordinate came from 32-bit floats (written back that way).
+    pub float_coordinates: bool,
+    pub cells: Cells,
+    /// Point arrays in file order.
+    pub point_arrays: Vec<Array>,
+    /// Cell arrays in file order (one value per cell of [`Cells`], all cell types).
+    pub cell_arrays: Vec<Array>,
+    /// The line of the points and of the cells, for messages about them.
+    pub points_line: usize,
+    pub cells_line: usize,
+    pub warnings: Vec<Warning>,
+}
+
+/// A reader: a whole file's bytes and its name (for messages) to a description.
+pub type ReadFn = fn(&[u8], &str) -> Result<MeshDescription, ParseError>;
+
+/// One registry entry.
+pub struct Format {
+    pub name: &'static str,
+    /// File-name extensions (lower case, without the dot).
+    pub extensions: &'static [&'static str],
+    /// Whether the first bytes of a file are this format.
+    pub sniff: fn(&[u8]) -> bool,
+    /// Reads a whole file into a description; `None` for HyperMesh (read by
+    /// [`crate::hypermesh`]).
+    pub read: Option<ReadFn>,
+    /// Whether [`save_volume`] can write it.
+    pub writable: bool,
+}
+
+/// Every format, HyperMesh first (the fallback for unknown extensions when writing).
+pub const FORMATS: &[Format] = &[
+    Format {
+        name: "HyperMesh",
+        extensions: &["hmesh", "hmascii", "hmbin", "bin", "asc", "hm"],
+        sniff: |b| starts_after_space(b, b"# HyperMesh") || starts_after_space(b, b"#HyperMesh"),
+        read: None,
+        writable: true,
+    },
+    Format {
+        name: "VTK XML UnstructuredGrid",
+        extensions: &["vtu"],
+        sniff: vtu::sniff,
+        read: Some(vtu::read),
+        writable: true,
+    },
+    Format {
+        name: "legacy VTK",
+        extensions: &["vtk"],
+        sniff: vtk_legacy::sniff,
+        read: Some(vtk_legacy::read),
+        writable: false,
+    },
+    Format {
+        name: "Gmsh",
+        extensions: &["msh"],
+        sniff: msh::sniff,
+        read: Some(msh::read),
+        writable: false,
+    },
+];
+
+fn starts_after_space(bytes: &[u8], magic: &[u8]) -> bool {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    let start = bytes
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(0);
+    bytes[start..].starts_with(magic)
+}
+
+/// The lower-case extension of a path.
+fn extension(path: &Path) -> Option<String> {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+}
+
+/// Picks the format of a file: by content first, then by extension. `None` if neither
+/// decides.
+pub fn detect(bytes: &[u8], path: &Path) -> Option<&'static Format> {
+    let head = &bytes[..bytes.len().min(4096)];
+    FORMATS.iter().find(|f| (f.sniff)(head)).or_else(|| {
+        let ext = extension(path)?;
+        FORMATS
+            .iter()
+            .find(|f| f.extensions.contains(&ext.as_str()))
+    })
+}
+
+/// The format a path's extension asks for when writing (HyperMesh for every other name).
+pub fn format_for_writing(path: &Path) -> &'static Format {
+    extension(path)
+        .and_then(|ext| {
+            FORMATS
+                .iter()
+                .find(|f| f.extensions.contains(&ext.as_str()))
+        })
+        .unwrap_or(&FORMATS[0])
+}
+
+fn unknown_format(name: &str) -> ParseError {
+    let list: Vec<String> = FORMATS
+        .iter()
+        .map(|f| {
+            let ext: Vec<String> = f.extensions.iter().map(|e| format!(".{e}")).collect();
+            format!("{} ({})", f.name, ext.join(", "))
+        })
+        .collect();
+    ParseError::new(
+        name,
+        1,
+        format!(
+            "unknown file format: the content is none that VoRANG reads; expected one of {}",
+            list.join("; ")
+        ),
+    )
+}
+
+/// Reads a non-HyperMesh file into a description (the content decides the format). Errors for
+/// HyperMesh files and for unknown formats.
+pub fn read_description(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
+    match detect(bytes, Path::new(name)) {
+        Some(Format {
+            read: Some(read), ..
+        }) => read(bytes, name),
+        Some(_) => Err(ParseError::new(
+            name,
+            1,
+            "this is a HyperMesh file; read it with the HyperMesh reader",
+        )),
+        None => Err(unknown_format(name)),
+    }
+}
+
+fn read_bytes_of(path: &Path) -> Result<Vec<u8>, Error> {
+    if path.is_dir() {
+        return Err(Error::io(
+            path,
+            std::io::Error::other("is a directory, expected a mesh file"),
+        ));
+    }
+    std::fs::read(path).map_err(|e| Error::io(path, e))
+}
+
+/// Reads a non-HyperMesh file into a description; `None` for a HyperMesh file (or text of
+/// unknown format, which the HyperMesh reader reports on).
+pub fn read_description_file(path: &Path) -> Result<Option<MeshDescription>, Error> {
+    let head = read_head(path);
+    match detect(&head, path) {
+        Some(Format {
+            read: Some(read), ..
+        }) => {
+            let bytes = read_bytes_of(path)?;
+            Ok(Some(read(&bytes, &path.display().to_string())?))
+        }
+        None if looks_binary(&head) => Err(unknown_format(&path.display().to_string()).into()),
+        _ => Ok(None),
+    }
+}
+
+/// Loads a volume from any supported file (`volume FILE`). HyperMesh files go through the
+/// HyperMesh reader unchanged; warnings are returned, not printed.
+pub fn load_volume(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
+    let head = read_head(path);
+    let name = path.display().to_string();
+    match detect(&head, path) {
+        Some(Format {
+            read: Some(read), ..
+        }) => {
+            // The file's bytes are freed before the mesh is built (peak memory).
+            let desc = read(&read_bytes_of(path)?, &name)?;
+            Ok(build::volume(desc)?)
+        }
+        None if looks_binary(&head) => Err(unknown_format(&name).into()),
+        // HyperMesh, or text of unknown format (the HyperMesh reader then reports on its
+        // title line, as it always has): the HyperMesh reader, unchanged.
+        _ => {
+            let file = crate::hypermesh::read_file(path)?;
+            let warnings = file.warnings.clone();
+            Ok((Volume::from_file(file)?, warnings))
+        }
+    }
+}
+
+/// The first 4 KiB of a file for detection (empty if it cannot be read: the reader that
+/// follows reports why).
+fn read_head(path: &Path) -> Vec<u8> {
+    use std::io::Read;
+    let mut head = Vec::with_capacity(4096);
+    if let Ok(f) = std::fs::File::open(path) {
+        let _ = f.take(4096).read_to_end(&mut head);
+    }
+    head
+}
+
+/// [`load_volume`] for a file held in memory (`name` labels messages and picks the format when
+/// the content does not).
+pub fn volume_from_bytes(bytes: &[u8], name: &str) -> Result<(Volume, Vec<Warning>), ParseError> {
+    match detect(bytes, Path::new(name)) {
+        Some(Format {
+            read: Some(read), ..
+        }) => {
+            let desc = read(bytes, name)?;
+            build::volume(desc)
+        }
+        Some(_) => hypermesh_volume(bytes, name),
+        // Unknown content and extension: the HyperMesh reader's own message about the title
+        // line is the one users of the thesis's format know, so plain text goes there.
+        None if !looks_binary(bytes) => hypermesh_volume(bytes, name),
+        None => Err(unknown_format(name)),
+    }
+}
+
+fn hypermesh_volume(bytes: &[u8], name: &str) -> Result<(Volume, Vec<Warning>), ParseError> {
+    let file = crate::hypermesh::read_bytes(bytes, name)?;
+    let warnings = file.warnings.clone();
+    Ok((Volume::from_file(file)?, warnings))
+}
+
+fn looks_binary(bytes: &[u8]) -> bool {
+    bytes[..bytes.len().min(512)]
+        .iter()
+        .any(|&b| b == 0 || (b < 0x20 && !b.is_ascii_whitespace() && b != 0x0c))
+}
+
+/// Whether a file is a HyperMesh file (or of unknown format and text, which the HyperMesh
+/// reader then reports on).
+pub fn is_hypermesh(bytes: &[u8], path: &Path) -> bool {
+    match detect(bytes, path) {
+        Some(f) => f.read.is_none(),
+        None => !looks_binary(bytes),
+    }
+}
+
+/// Writes a volume in the format its file name asks for: `.vtu` (binary appended, zlib) or
+/// HyperMesh (every other name, with `opts`). Returns warnings about what the format cannot
+/// hold.
+pub fn save_volume(
+    vol: &Volume,
+    path: &Path,
+    opts: crate::hypermesh::WriteOptions,
+) -> Result<Vec<Warning>, Error> {
+    let format = format_for_writing(path);
+    match format.name {
+        "VTK XML UnstructuredGrid" => vtu::save(vol, path),
+        _ if format.writable => {
+            crate::hypermesh::save_volume(vol, path, opts)?;
+            Ok(Vec::new())
+        }
+        other => Err(Error::Invalid(format!(
+            "{}: VoRANG cannot write {other} files; write .vtu (VTK XML) or a HyperMesh file",
+            path.display()
+        ))),
+    }
+}
+
+/// The 1-based line that byte `pos` of `bytes` is on.
+pub fn line_of(bytes: &[u8], pos: usize) -> usize {
+    1 + bytes[..pos.min(bytes.len())]
+        .iter()
+        .filter(|&&b| b == b'\n')
+        .count()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn content_decides_before_the_extension() {
+        let vtu = b"<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\">";
+        assert_eq!(
+            detect(vtu, Path::new("a.msh")).unwrap().name,
+            "VTK XML UnstructuredGrid"
+        );
+        assert_eq!(
+            detect(b"# vtk DataFile Version 3.0\n", Path::new("a.vtu"))
+                .unwrap()
+                .name,
+            "legacy VTK"
+        );
+        assert_eq!(
+            detect(b"$MeshFormat\n4.1 0 8\n", Path::new("x"))
+                .unwrap()
+                .name,
+            "Gmsh"
+        );
+        assert_eq!(
+            detect(b"# HyperMesh 3D ASCII 0.7\n", Path::new("x.vtu"))
+                .unwrap()
+                .name,
+            "HyperMesh"
+        );
+        assert_eq!(detect(b"junk", Path::new("x.msh")).unwrap().name, "Gmsh");
+        assert!(detect(b"junk", Path::new("x.xyz")).is_none());
+    }
+
+    #[test]
+    fn unknown_binary_content_is_a_clear_error() {
+        let e = volume_from_bytes(b"\x00\x01\x02garbage", "thing.dat").unwrap_err();
+        assert!(e.message.contains("unknown file format"), "{e}");
+        assert!(e.message.contains(".vtu"), "{e}");
+    }
+}

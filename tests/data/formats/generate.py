@@ -1,0 +1,476 @@
+#!/usr/bin/env python3
+"""Writes the small mesh files that tests/formats.rs reads, in every format and encoding VoRANG
+reads. The files are committed, so `cargo test` needs no Python; run this again only after a
+deliberate change:
+
+    python3 -m venv /tmp/fmtvenv
+    /tmp/fmtvenv/bin/pip install meshio==5.3.5 numpy==1.26.4 lz4==4.4.5 gmsh==4.13.1
+    /tmp/fmtvenv/bin/python tests/data/formats/generate.py
+
+Two meshes:
+
+- `cube`: a 2x2x2 Kuhn box (27 nodes, 48 tetrahedra) with dyadic coordinates and values (exact
+  in every encoding, float32 included), point arrays `temperature` (scalar) and `velocity`
+  (3 components), cell arrays `material` (integer 1/2) and `pressure` (float). Written as
+  HyperMesh (by hand), .vtu by meshio (its real writer: ascii, base64 + zlib/lzma) and by the
+  hand-written VTK XML writer below in every encoding (ascii; inline base64; appended raw and
+  base64; no compression, zlib, lz4, lzma; UInt32/UInt64 headers; little/big endian; several
+  compressed blocks per array), legacy .vtk by meshio (4.2 and 5.1, ascii and binary) and by
+  hand (SCALARS/LOOKUP_TABLE, VECTORS), and .msh by meshio (2.2 and 4.1, ascii and binary).
+- `mixed`: a bar of one hexahedron, two wedges, six pyramids and a cube of tetrahedra with the
+  affine point field `f = 1 + x/2 - y/4 + z/8`, and the same mesh split into tetrahedra by
+  another conforming rule (diagonals from the *largest* node index) as `mixed_split.vtu`.
+  Plus `quadratic.vtu` (two quadratic tetrahedra) for the HigherOrder path.
+"""
+
+import base64
+import lzma
+import os
+import struct
+import zlib
+
+import lz4.block
+import meshio
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def out(name):
+    return os.path.join(HERE, name)
+
+
+# ------------------------------------------------------------------------------------------
+# The cube mesh
+
+def kuhn_box(n):
+    pts = []
+    index = {}
+    for k in range(n + 1):
+        for j in range(n + 1):
+            for i in range(n + 1):
+                index[(i, j, k)] = len(pts)
+                # Dyadic jitter keeps every coordinate exact in float32.
+                jit = ((i * 3 + j * 5 + k * 7) % 4) / 64.0 if 0 < i < n and 0 < j < n and 0 < k < n else 0.0
+                pts.append([i / 2.0 + jit, j / 2.0 - jit, k / 2.0 + jit / 2])
+    tets = []
+    paths = [(0, 1, 2), (0, 2, 1), (1, 0, 2), (1, 2, 0), (2, 0, 1), (2, 1, 0)]
+    for k in range(n):
+        for j in range(n):
+            for i in range(n):
+                for p in paths:
+                    c = [i, j, k]
+                    v = [index[tuple(c)]]
+                    for axis in p:
+                        c[axis] += 1
+                        v.append(index[tuple(c)])
+                    tets.append(v)
+    return np.array(pts, dtype=np.float64), np.array(tets, dtype=np.int64)
+
+
+points, tets = kuhn_box(2)
+temperature = np.array([1.0 + p[0] * 2 - p[1] + 0.25 * p[2] * p[2] for p in points])
+velocity = np.array([[p[1], -p[0], 0.5] for p in points])
+centroids = points[tets].mean(axis=1)
+material = np.where(centroids[:, 0] < 0.5, 1, 2).astype(np.int32)
+pressure = np.array([float(i % 5) / 4.0 for i in range(len(tets))])
+
+
+def write_hmesh():
+    lines = ["# HyperMesh 3D ASCII 0.7",
+             f"nNodes = {len(points)}", f"nTetrahedra = {len(tets)}",
+             "Nodes { double[3] Coordinates } = @1",
+             "Tetrahedra { int[4] Nodes } = @2",
+             "NodeData { double } = @3",
+             "NodeData { double[3] } = @4",
+             "TetrahedronData { byte } = @5",
+             "TetrahedronData { double } = @6",
+             'Field "temperature" { double } = Linear(@3)',
+             'Field "velocity" { double[3] } = Linear(@4)',
+             'Field "material" { byte } = Constant(@5)',
+             'Field "pressure" { double } = Constant(@6)',
+             "@1"]
+    lines += [" ".join(repr(float(c)) for c in p) for p in points]
+    lines += ["@2"] + [" ".join(str(i + 1) for i in t) for t in tets]
+    lines += ["@3"] + [repr(float(v)) for v in temperature]
+    lines += ["@4"] + [" ".join(repr(float(c)) for c in v) for v in velocity]
+    lines += ["@5"] + [str(int(m)) for m in material]
+    lines += ["@6"] + [repr(float(v)) for v in pressure]
+    with open(out("cube.hmesh"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def cube_meshio():
+    return meshio.Mesh(
+        points, [("tetra", tets)],
+        point_data={"temperature": temperature, "velocity": velocity},
+        cell_data={"material": [material], "pressure": [pressure]},
+    )
+
+
+# ------------------------------------------------------------------------------------------
+# A VTK XML writer for every encoding meshio does not write
+
+
+def compress(data, compressor, block):
+    blocks = [data[i:i + block] for i in range(0, len(data), block)] or []
+    if compressor == "zlib":
+        comp = [zlib.compress(b) for b in blocks]
+    elif compressor == "lz4":
+        comp = [lz4.block.compress(b, store_size=False) for b in blocks]
+    elif compressor == "lzma":
+        comp = [lzma.compress(b) for b in blocks]
+    else:
+        raise ValueError(compressor)
+    last = len(blocks[-1]) if blocks else 0
+    header = [len(blocks), block, 0 if last == block else last] + [len(c) for c in comp]
+    return header, b"".join(comp)
+
+
+def encode_array(arr, fmt, compressor, header_type, big, block):
+    """Header bytes and data bytes of one array (uncompressed or compressed)."""
+    order = ">" if big else "<"
+    raw = np.ascontiguousarray(arr).astype(arr.dtype.newbyteorder(order)).tobytes()
+    hcode = order + ("Q" if header_type == "UInt64" else "I")
+    if compressor is None:
+        header = struct.pack(hcode, len(raw))
+        return header, raw
+    words, comp = compress(raw, compressor, block)
+    header = b"".join(struct.pack(hcode, w) for w in words)
+    return header, comp
+
+
+VTK_TYPES = {np.dtype("float64"): "Float64", np.dtype("float32"): "Float32",
+             np.dtype("int64"): "Int64", np.dtype("int32"): "Int32", np.dtype("uint8"): "UInt8",
+             np.dtype("int16"): "Int16"}
+
+
+def write_vtu(name, pts, cells, ctypes, point_data, cell_data, fmt="appended", encoding="raw",
+              compressor=None, header_type="UInt32", big=False, block=96, one_stream=False):
+    conn = np.concatenate([np.asarray(c, dtype=np.int64) for c in cells])
+    offsets = np.cumsum([len(c) for c in cells]).astype(np.int64)
+    types = np.asarray(ctypes, dtype=np.uint8)
+    arrays = []  # (section, name, ncomp, array)
+    for k, v in point_data.items():
+        arrays.append(("PointData", k, 1 if v.ndim == 1 else v.shape[1], v))
+    for k, v in cell_data.items():
+        arrays.append(("CellData", k, 1 if v.ndim == 1 else v.shape[1], v))
+    arrays.append(("Points", "Points", 3, pts))
+    arrays.append(("Cells", "connectivity", 1, conn))
+    arrays.append(("Cells", "offsets", 1, offsets))
+    arrays.append(("Cells", "types", 1, types))
+    appended = b""
+    decls = {"PointData": [], "CellData": [], "Points": [], "Cells": []}
+    for section, aname, ncomp, arr in arrays:
+        arr = np.asarray(arr)
+        attrs = f'type="{VTK_TYPES[arr.dtype]}" Name="{aname}" NumberOfComponents="{ncomp}"'
+        if fmt == "ascii":
+            text = " ".join(repr(x.item()) if arr.dtype.kind == "f" else str(x.item()) for x in arr.flatten())
+            decls[section].append(f'<DataArray {attrs} format="ascii">\n{text}\n</DataArray>')
+            continue
+        header, data = encode_array(arr.flatten(), fmt, compressor, header_type, big, block)
+        if fmt == "binary":
+            if one_stream:
+                text = base64.b64encode(header + data).decode()
+            else:
+                text = base64.b64encode(header).decode() + base64.b64encode(data).decode()
+            decls[section].append(f'<DataArray {attrs} format="binary">\n{text}\n</DataArray>')
+        else:
+            offset = len(appended)
+            if encoding == "raw":
+                appended += header + data
+            else:
+                if one_stream:
+                    appended += base64.b64encode(header + data)
+                else:
+                    appended += base64.b64encode(header) + base64.b64encode(data)
+            decls[section].append(f'<DataArray {attrs} format="appended" offset="{offset}"/>')
+    comp_attr = {None: "", "zlib": ' compressor="vtkZLibDataCompressor"',
+                 "lz4": ' compressor="vtkLZ4DataCompressor"',
+                 "lzma": ' compressor="vtkLZMADataCompressor"'}[compressor]
+    order = "BigEndian" if big else "LittleEndian"
+    xml = ['<?xml version="1.0"?>',
+           f'<VTKFile type="UnstructuredGrid" version="1.0" byte_order="{order}" header_type="{header_type}"{comp_attr}>',
+           "  <UnstructuredGrid>",
+           f'    <Piece NumberOfPoints="{len(pts)}" NumberOfCells="{len(cells)}">']
+    for section in ["PointData", "CellData", "Points", "Cells"]:
+        xml.append(f"      <{section}>")
+        xml += ["        " + d for d in decls[section]]
+        xml.append(f"      </{section}>")
+    xml += ["    </Piece>", "  </UnstructuredGrid>"]
+    body = ("\n".join(xml) + "\n").encode()
+    if fmt == "appended":
+        body += f'  <AppendedData encoding="{encoding}">\n   _'.encode() + appended + b"\n  </AppendedData>\n"
+    body += b"</VTKFile>\n"
+    with open(out(name), "wb") as f:
+        f.write(body)
+
+
+def write_cube_variants():
+    pd = {"temperature": temperature, "velocity": velocity}
+    cd = {"material": material, "pressure": pressure}
+    cells = list(tets)
+    ctypes = [10] * len(tets)
+    variants = {
+        "cube_ascii.vtu": dict(fmt="ascii"),
+        "cube_binary.vtu": dict(fmt="binary"),
+        "cube_binary_onestream.vtu": dict(fmt="binary", one_stream=True),
+        "cube_binary_zlib.vtu": dict(fmt="binary", compressor="zlib"),
+        "cube_binary_lz4.vtu": dict(fmt="binary", compressor="lz4", header_type="UInt64"),
+        "cube_binary_lzma.vtu": dict(fmt="binary", compressor="lzma"),
+        "cube_binary_be.vtu": dict(fmt="binary", big=True, header_type="UInt64"),
+        "cube_raw.vtu": dict(fmt="appended", encoding="raw"),
+        "cube_raw_zlib.vtu": dict(fmt="appended", encoding="raw", compressor="zlib", header_type="UInt64"),
+        "cube_raw_lz4.vtu": dict(fmt="appended", encoding="raw", compressor="lz4"),
+        "cube_raw_lzma.vtu": dict(fmt="appended", encoding="raw", compressor="lzma", header_type="UInt64"),
+        "cube_raw_zlib_be.vtu": dict(fmt="appended", encoding="raw", compressor="zlib", big=True),
+        "cube_raw_be64.vtu": dict(fmt="appended", encoding="raw", big=True, header_type="UInt64"),
+        "cube_b64.vtu": dict(fmt="appended", encoding="base64"),
+        "cube_b64_zlib.vtu": dict(fmt="appended", encoding="base64", compressor="zlib", header_type="UInt64"),
+        "cube_b64_lz4_be.vtu": dict(fmt="appended", encoding="base64", compressor="lz4", big=True),
+    }
+    for name, kw in variants.items():
+        write_vtu(name, points, cells, ctypes, pd, cd, **kw)
+    # float32 coordinates (exact: the coordinates are dyadic)
+    write_vtu("cube_float32.vtu", points.astype(np.float32), cells, ctypes, pd, cd,
+              fmt="appended", compressor="zlib")
+    # meshio's own writer
+    m = cube_meshio()
+    meshio.vtu.write(out("cube_meshio_ascii.vtu"), m, binary=False)
+    meshio.vtu.write(out("cube_meshio_zlib.vtu"), m, binary=True, compression="zlib")
+    meshio.vtu.write(out("cube_meshio_lzma.vtu"), m, binary=True, compression="lzma")
+    meshio.vtu.write(out("cube_meshio_raw.vtu"), m, binary=True, compression=None)
+    # legacy VTK
+    meshio.vtk.write(out("cube_42_ascii.vtk"), m, binary=False, fmt_version="4.2")
+    meshio.vtk.write(out("cube_42_binary.vtk"), m, binary=True, fmt_version="4.2")
+    meshio.vtk.write(out("cube_51_ascii.vtk"), m, binary=False, fmt_version="5.1")
+    meshio.vtk.write(out("cube_51_binary.vtk"), m, binary=True, fmt_version="5.1")
+    write_legacy_by_hand()
+    # Gmsh
+    mg = meshio.Mesh(
+        points, [("tetra", tets)],
+        point_data={"temperature": temperature, "velocity": velocity},
+        cell_data={"gmsh:physical": [material], "gmsh:geometrical": [np.ones(len(tets), dtype=np.int32)],
+                   "material": [material.astype(np.float64)], "pressure": [pressure]},
+    )
+    meshio.gmsh.write(out("cube_22_ascii.msh"), mg, fmt_version="2.2", binary=False)
+    meshio.gmsh.write(out("cube_22_binary.msh"), mg, fmt_version="2.2", binary=True)
+    meshio.gmsh.write(out("cube_41_ascii.msh"), mg, fmt_version="4.1", binary=False)
+    meshio.gmsh.write(out("cube_41_binary.msh"), mg, fmt_version="4.1", binary=True)
+
+
+def write_legacy_by_hand():
+    """SCALARS with LOOKUP_TABLE, VECTORS, the classic CELLS list; ASCII and big-endian BINARY."""
+    for binary in (False, True):
+        parts = [b"# vtk DataFile Version 3.0\n", b"cube by hand\n",
+                 b"BINARY\n" if binary else b"ASCII\n", b"DATASET UNSTRUCTURED_GRID\n"]
+
+        def block(arr, fmt_char):
+            arr = np.asarray(arr).flatten()
+            if binary:
+                return np.asarray(arr).astype(">" + fmt_char).tobytes() + b"\n"
+            return (" ".join(repr(x.item()) if arr.dtype.kind == "f" else str(x.item()) for x in arr) + "\n").encode()
+
+        parts.append(f"POINTS {len(points)} double\n".encode())
+        parts.append(block(points, "f8"))
+        cell_list = np.concatenate([[4] + list(t) for t in tets]).astype(np.int32)
+        parts.append(f"CELLS {len(tets)} {len(cell_list)}\n".encode())
+        parts.append(block(cell_list, "i4"))
+        parts.append(f"CELL_TYPES {len(tets)}\n".encode())
+        parts.append(block(np.full(len(tets), 10, dtype=np.int32), "i4"))
+        parts.append(f"POINT_DATA {len(points)}\n".encode())
+        parts.append(b"SCALARS temperature double 1\nLOOKUP_TABLE default\n")
+        parts.append(block(temperature, "f8"))
+        parts.append(b"VECTORS velocity double\n")
+        parts.append(block(velocity, "f8"))
+        parts.append(f"CELL_DATA {len(tets)}\n".encode())
+        parts.append(b"SCALARS material int\nLOOKUP_TABLE default\n")
+        parts.append(block(material, "i4"))
+        parts.append(b"FIELD FieldData 1\npressure 1 %d double\n" % len(tets))
+        parts.append(block(pressure, "f8"))
+        name = "cube_hand_binary.vtk" if binary else "cube_hand_ascii.vtk"
+        with open(out(name), "wb") as f:
+            f.write(b"".join(parts))
+
+
+# ------------------------------------------------------------------------------------------
+# The mixed mesh
+
+
+def mixed_mesh():
+    """Cubes [0,1], [1,2], [2,3], [3,4] x [0,1]^2: hexahedron, two wedges, six pyramids about the
+    centre, six tetrahedra (the cone from the cube's smallest node, so its faces match the
+    neighbours' smallest-node diagonals)."""
+    idx = {}
+    pts = []
+
+    def node(x, y, z):
+        key = (x, y, z)
+        if key not in idx:
+            idx[key] = len(pts)
+            pts.append([float(x), float(y), float(z)])
+        return idx[key]
+
+    # Number the nodes in a scrambled order so the smallest-node rule is exercised.
+    for x in [2, 0, 4, 1, 3]:
+        for z in [1, 0]:
+            for y in [0, 1]:
+                node(x, y, z)
+    node(2.5, 0.5, 0.5)
+
+    def cube(x):
+        return [node(x, 0, 0), node(x + 1, 0, 0), node(x + 1, 1, 0), node(x, 1, 0),
+                node(x, 0, 1), node(x + 1, 0, 1), node(x + 1, 1, 1), node(x, 1, 1)]
+
+    cells, types = [], []
+    cells.append(cube(0)); types.append(12)
+    c = cube(1)
+    # Wedges extruded along z: triangles (0,1,2) and (0,2,3) of the bottom face.
+    cells.append([c[0], c[1], c[2], c[4], c[5], c[6]]); types.append(13)
+    cells.append([c[0], c[2], c[3], c[4], c[6], c[7]]); types.append(13)
+    c = cube(2)
+    apex = node(2.5, 0.5, 0.5)
+    faces = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+    for f in faces:
+        cells.append([c[k] for k in f] + [apex]); types.append(14)
+    c = cube(3)
+    for t in split(12, c, min):
+        cells.append(t); types.append(10)
+    return np.array(pts), cells, types
+
+
+HEX_FACES = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+WEDGE_FACES = [[0, 1, 2], [3, 5, 4], [0, 3, 4, 1], [1, 4, 5, 2], [2, 5, 3, 0]]
+PYR_FACES = [[0, 3, 2, 1], [0, 1, 4], [1, 2, 4], [2, 3, 4], [3, 0, 4]]
+
+
+def split(ty, g, pick):
+    """Cone from the cell's pick (min or max) node over the faces without it; quads cut along
+    the diagonal through their own pick node. Conforming for either pick."""
+    faces = {12: HEX_FACES, 13: WEDGE_FACES, 14: PYR_FACES}.get(ty)
+    if faces is None:
+        return [list(g)]
+    v = min(range(len(g)), key=lambda i: g[i]) if pick is min else max(range(len(g)), key=lambda i: g[i])
+    out = []
+    for f in faces:
+        if v in f:
+            continue
+        if len(f) == 3:
+            out.append([g[v]] + [g[k] for k in f])
+        else:
+            ks = [g[k] for k in f]
+            k = ks.index(pick(ks))
+            a, b, c, d = ks[k], ks[(k + 1) % 4], ks[(k + 2) % 4], ks[(k + 3) % 4]
+            out.append([g[v], a, b, c])
+            out.append([g[v], a, c, d])
+    return out
+
+
+def write_mixed():
+    pts, cells, types = mixed_mesh()
+    f = np.array([1 + p[0] / 2 - p[1] / 4 + p[2] / 8 for p in pts])
+    cid = np.arange(len(cells), dtype=np.int32) % 3 + 1
+    write_vtu("mixed.vtu", pts, cells, types, {"f": f}, {"part": cid},
+              fmt="appended", compressor="zlib")
+    tcells, tparts = [], []
+    for c, t, p in zip(cells, types, cid):
+        for s in split(t, c, max):
+            tcells.append(s)
+            tparts.append(p)
+    write_vtu("mixed_split.vtu", pts, tcells, [10] * len(tcells), {"f": f},
+              {"part": np.array(tparts, dtype=np.int32)}, fmt="ascii")
+    # The same mesh with a triangle and a line that must be skipped with a warning.
+    write_vtu("mixed_with_faces.vtu", pts, cells + [[0, 1, 2], [0, 1]], types + [5, 3], {"f": f},
+              {"part": np.concatenate([cid, [7, 7]]).astype(np.int32)}, fmt="ascii")
+
+
+def write_quadratic():
+    pts = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [1, 1, 1]]
+    # Mid-edge nodes, VTK order (0,1) (1,2) (2,0) (0,3) (1,3) (2,3), for two tets sharing 1 2 3.
+    tets = [[0, 1, 2, 3], [1, 2, 3, 4]]
+    index = {}
+    cells = []
+    for t in tets:
+        mids = []
+        for a, b in [(0, 1), (1, 2), (2, 0), (0, 3), (1, 3), (2, 3)]:
+            key = tuple(sorted((t[a], t[b])))
+            if key not in index:
+                index[key] = len(pts)
+                pa, pb = pts[t[a]], pts[t[b]]
+                pts.append([(pa[i] + pb[i]) / 2 for i in range(3)])
+            mids.append(index[key])
+        cells.append(t + mids)
+    pts = np.array(pts, dtype=np.float64)
+    # q = x^2 + y z: quadratic, exactly represented by P2.
+    q = np.array([p[0] * p[0] + p[1] * p[2] for p in pts])
+    write_vtu("quadratic.vtu", pts, cells, [24, 24], {"q": q}, {"id": np.array([3, 4], dtype=np.int32)},
+              fmt="ascii")
+
+
+def write_msh41_with_entities():
+    """Gmsh 4.1 ASCII as Gmsh itself writes it: $PhysicalNames, $Entities (two volumes with
+    physical tags 1 and 2), element blocks per entity (runs of equal material), $NodeData."""
+    lines = ["$MeshFormat", "4.1 0 8", "$EndMeshFormat",
+             "$PhysicalNames", "2", '3 1 "left"', '3 2 "right"', "$EndPhysicalNames",
+             "$Entities", "0 0 0 2",
+             "1 0 0 0 1 1 1 1 1 0", "2 0 0 0 1 1 1 1 2 0", "$EndEntities",
+             "$Nodes", f"1 {len(points)} 1 {len(points)}", f"3 1 0 {len(points)}"]
+    lines += [str(i + 1) for i in range(len(points))]
+    lines += [" ".join(repr(float(c)) for c in p) for p in points]
+    lines += ["$EndNodes"]
+    runs = []
+    for i, m in enumerate(material):
+        if runs and runs[-1][0] == m:
+            runs[-1][1].append(i)
+        else:
+            runs.append((m, [i]))
+    lines += ["$Elements", f"{len(runs)} {len(tets)} 1 {len(tets)}"]
+    for m, ids in runs:
+        lines.append(f"3 {int(m)} 4 {len(ids)}")
+        lines += [f"{i + 1} " + " ".join(str(n + 1) for n in tets[i]) for i in ids]
+    lines += ["$EndElements",
+              "$NodeData", "1", '"temperature"', "1", "0.0", "3", "0", "1", str(len(points))]
+    lines += [f"{i + 1} {repr(float(v))}" for i, v in enumerate(temperature)]
+    lines += ["$EndNodeData"]
+    with open(out("cube_41_entities.msh"), "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def write_gmsh_native():
+    """Files written by Gmsh itself (the gmsh module): a block with a spherical inclusion, two
+    physical volumes (1 matrix, 2 inclusion) and physical surfaces, in 4.1 ASCII, 4.1 binary
+    and 2.2 binary. Their 2D elements must be skipped with a warning."""
+    import gmsh
+    gmsh.initialize()
+    gmsh.option.setNumber("General.Terminal", 0)
+    gmsh.model.add("native")
+    box = gmsh.model.occ.addBox(0, 0, 0, 2, 1, 1)
+    ball = gmsh.model.occ.addSphere(0.8, 0.5, 0.5, 0.3)
+    gmsh.model.occ.fragment([(3, box)], [(3, ball)])
+    gmsh.model.occ.synchronize()
+    vols = [t for d, t in gmsh.model.getEntities(3)]
+    masses = {t: gmsh.model.occ.getMass(3, t) for t in vols}
+    inner = min(masses, key=masses.get)
+    gmsh.model.addPhysicalGroup(3, [t for t in vols if t != inner], 1, "matrix")
+    gmsh.model.addPhysicalGroup(3, [inner], 2, "inclusion")
+    surfs = [t for d, t in gmsh.model.getBoundary([(3, inner)], oriented=False)]
+    gmsh.model.addPhysicalGroup(2, surfs, 3, "interface")
+    gmsh.option.setNumber("Mesh.MeshSizeMax", 0.35)
+    gmsh.model.mesh.generate(3)
+    for name, version, binary in [("gmsh_41_ascii.msh", 4.1, 0), ("gmsh_41_binary.msh", 4.1, 1),
+                                  ("gmsh_22_binary.msh", 2.2, 1), ("gmsh_22_ascii.msh", 2.2, 0)]:
+        gmsh.option.setNumber("Mesh.MshFileVersion", version)
+        gmsh.option.setNumber("Mesh.Binary", binary)
+        gmsh.write(out(name))
+    gmsh.finalize()
+
+
+if __name__ == "__main__":
+    write_gmsh_native()
+    write_hmesh()
+    write_msh41_with_entities()
+    write_cube_variants()
+    write_mixed()
+    write_quadratic()
+    sizes = sum(os.path.getsize(out(f)) for f in os.listdir(HERE) if not f.endswith(".py"))
+    print(f"wrote {len(os.listdir(HERE)) - 1} files, {sizes} bytes")
