@@ -512,7 +512,7 @@ type Vec3 = [f64; 3];
 /// opacity 1 − T). The volume transforms are applied as the script commands `vol_scale`,
 /// `vol_rotate` (each of `rotate`, in order), `vol_translate` given in that order.
 #[pyfunction]
-#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="test 0.5", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="on"))]
+#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="test 0.5", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="on", progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -529,6 +529,7 @@ fn render<'py>(
     translate: Option<Vec3>,
     background: Option<&Bound<'py, PyAny>>,
     linedraw: &str,
+    progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let vol = Arc::clone(&volume.get().inner);
     if persp.is_some() && ortho.is_some() {
@@ -612,9 +613,7 @@ fn render<'py>(
     msgs.extend(map_warnings.iter().map(|w| w.to_string()));
     warn_all(py, msgs.into_iter())?;
 
-    let (fb, stats) = py
-        .detach(|| vorang::render::render(&vol, &mapping, &view, &settings, None))
-        .map_err(py_err)?;
+    let (fb, stats) = render_interruptible(py, &vol, &mapping, &view, &settings, progress)?;
     if let Some((x, y)) = stats.first_non_finite {
         warn_all(
             py,
@@ -629,6 +628,94 @@ fn render<'py>(
     let arr = Array3::from_shape_vec((h, w, 4), flat)
         .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
     Ok(arr.into_pyarray(py))
+}
+
+/// Why a render stopped early (carried by an unwind out of the progress callback).
+struct Stop;
+
+/// Renders on a worker thread while this (the main) thread waits without the GIL, checking
+/// for signals every 20 ms: Ctrl-C (KeyboardInterrupt) or an exception of the progress
+/// callback stops the render at the next finished tile, and the exception is raised here.
+/// `progress` is called as progress(done, total), or, for a tqdm-like object (one with
+/// `update`), as `total` set once and update(n) per finished tile.
+fn render_interruptible(
+    py: Python<'_>,
+    vol: &vorang::Volume,
+    mapping: &Mapping,
+    view: &vorang::scene::View,
+    settings: &vorang::render::Settings,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<(Framebuffer, vorang::render::Stats)> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let stop = AtomicBool::new(false);
+    let error: Mutex<Option<PyErr>> = Mutex::new(None);
+    let tqdm = progress
+        .as_ref()
+        .is_some_and(|p| p.hasattr("update").unwrap_or(false));
+    let progress: Option<Py<PyAny>> = progress.map(Bound::unbind);
+    let started_total = AtomicBool::new(false);
+    let callback = |done: usize, total: usize| {
+        if let Some(p) = &progress {
+            Python::attach(|py| {
+                let p = p.bind(py);
+                let r = if tqdm {
+                    let first = !started_total.swap(true, Ordering::Relaxed);
+                    let set = if first {
+                        p.setattr("total", total)
+                            .and_then(|_| p.call_method0("refresh").map(|_| ()))
+                            .or(Ok::<(), PyErr>(()))
+                    } else {
+                        Ok(())
+                    };
+                    set.and_then(|_| p.call_method1("update", (1,)).map(|_| ()))
+                } else {
+                    p.call1((done, total)).map(|_| ())
+                };
+                if let Err(e) = r {
+                    if let Ok(mut slot) = error.lock() {
+                        slot.get_or_insert(e);
+                    }
+                    stop.store(true, Ordering::Relaxed);
+                }
+            });
+        }
+        if stop.load(Ordering::Relaxed) {
+            std::panic::resume_unwind(Box::new(Stop));
+        }
+    };
+    let result = py.detach(|| {
+        std::thread::scope(|scope| {
+            let worker = scope.spawn(|| {
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    vorang::render::render(vol, mapping, view, settings, Some(&callback))
+                }))
+            });
+            while !worker.is_finished() {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+                let checked = Python::attach(|py| py.check_signals());
+                if let Err(e) = checked {
+                    if let Ok(mut slot) = error.lock() {
+                        slot.get_or_insert(e);
+                    }
+                    stop.store(true, Ordering::Relaxed);
+                }
+            }
+            worker.join()
+        })
+    });
+    if let Some(e) = error.lock().ok().and_then(|mut slot| slot.take()) {
+        return Err(e);
+    }
+    match result {
+        Ok(Ok(r)) => r.map_err(py_err),
+        Ok(Err(payload)) | Err(payload) => {
+            if payload.is::<Stop>() {
+                Err(PyRuntimeError::new_err("the render was stopped"))
+            } else {
+                std::panic::resume_unwind(payload)
+            }
+        }
+    }
 }
 
 /// save(image, path, *, transparent=False): writes an (h, w, 4) (or (h, w, 3)) float array

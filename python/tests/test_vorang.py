@@ -330,3 +330,31 @@ def test_signature_defaults():
     assert sig.parameters["background"].default == "white"
     assert sig.parameters["method"].default == "test 0.5"
     assert sig.parameters["rotate"].default == ()
+
+
+def test_progress_and_interrupt():
+    vol = vorang.Volume.read(str(INCLUSION / "inclusion.vtu"))
+    calls = []
+    vorang.render(vol, size=(200, 150), progress=lambda d, t: calls.append((d, t)))
+    assert calls and calls[-1][0] == calls[-1][1]
+
+    class Bar:  # tqdm-like
+        total = None
+        n = 0
+
+        def update(self, k):
+            self.n += k
+
+    bar = Bar()
+    vorang.render(vol, size=(200, 150), progress=bar)
+    assert bar.total and bar.n == bar.total
+
+    def boom(d, t):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        vorang.render(vol, size=(400, 300), progress=boom)
+
+    # The interpreter (and the renderer) are still usable.
+    img = vorang.render(vol, size=(20, 10))
+    assert img.shape == (10, 20, 4)

@@ -35,6 +35,7 @@ def render(
     translate=None,
     background="white",
     linedraw="on",
+    progress=None,
 ):
     """Renders `volume` back to front; returns a float32 array of shape (h, w, 4).
 
@@ -52,8 +53,13 @@ def render(
     (no background light, transparent), an (r, g, b) tuple or an image path (`background`).
     linedraw: "on" (the script's default: all grid lines), "off", or "field {values}".
 
+    progress: called as progress(done, total) as screen tiles finish, or a tqdm-like object
+    (with `update`): its `total` is set and update(1) called per tile.
+
     Raises ValueError (bad arguments, maps that do not fit the volume) or OSError (files),
-    with the CLI's messages. The GIL is released while rendering.
+    with the CLI's messages. The GIL is released while rendering; an exception raised by
+    `progress` (e.g. KeyboardInterrupt) stops the render at the next tile and is raised here.
+    Ctrl-C is checked while rendering, but at present only takes effect when the render ends.
     """
     return _vorang.render(
         volume,
@@ -69,6 +75,7 @@ def render(
         translate=None if translate is None else tuple(translate),
         background=background,
         linedraw=linedraw,
+        progress=progress,
     )
 
 
