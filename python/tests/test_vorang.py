@@ -97,6 +97,14 @@ SCENES = [
             "background 0 0 0.2",
         ],
     ),
+    (
+        dict(size=(30, 20), background="none", method="exact linear 0 1.0", rotate=[(0, 1, 0, 90)]),
+        ["imagesize 30 20", "background none", "method exact linear 0 1.0", "vol_rotate 0 1 0 90"],
+    ),
+    (
+        dict(size=(30, 20), persp=(30, 1.5, 1, 30), background="clear"),
+        ["imagesize 30 20", "persp_camera 30 1.5 1 30", "background clear"],
+    ),
 ]
 
 
