@@ -1,0 +1,801 @@
+//! The `vorang._vorang` extension module: numpy arrays in, numpy images out, over the core
+//! library. The pure-Python package `vorang` (python/vorang/__init__.py) re-exports it and adds
+//! the map helpers.
+
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+use numpy::ndarray::Array3;
+use numpy::{IntoPyArray, PyArray3, PyReadonlyArrayDyn};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyString};
+
+use vorang::formats::{self, Array, ArrayValues, Cells, MeshDescription, cell_type};
+use vorang::framebuffer::Framebuffer;
+use vorang::framebuffer::write_image;
+use vorang::mapping::{
+    AlphaMap, AlphaShading, ColorMap, ColorShading, Mapping, parse_map, read_map,
+};
+use vorang::script::{Reporter, Runner, Terminal};
+use vorang::{Error, ParseError};
+
+/// The core's error as a Python exception: files → `OSError`, everything else → `ValueError`.
+fn py_err(e: Error) -> PyErr {
+    match e {
+        Error::Io { .. } => PyOSError::new_err(e.to_string()),
+        other => PyValueError::new_err(other.to_string()),
+    }
+}
+
+/// A tetrahedral mesh with its fields (the core's `Volume`).
+#[pyclass(name = "Volume", module = "vorang", frozen)]
+struct PyVolume {
+    inner: Arc<vorang::Volume>,
+}
+
+/// `numpy.asarray(obj)` with its dtype kind ('f', 'i', 'u', 'b', …) and shape.
+fn as_array<'py>(
+    py: Python<'py>,
+    obj: &Bound<'py, PyAny>,
+    what: &str,
+) -> PyResult<(Bound<'py, PyAny>, char, Vec<usize>)> {
+    let np = py.import("numpy")?;
+    let arr = np
+        .call_method1("asarray", (obj,))
+        .map_err(|e| PyValueError::new_err(format!("{what}: not an array ({e})")))?;
+    let kind: String = arr.getattr("dtype")?.getattr("kind")?.extract()?;
+    let shape: Vec<usize> = arr.getattr("shape")?.extract()?;
+    Ok((arr, kind.chars().next().unwrap_or('?'), shape))
+}
+
+/// A shape as Python writes it: (4,), (4, 2).
+fn shape_str(shape: &[usize]) -> String {
+    match shape {
+        [n] => format!("({n},)"),
+        _ => format!(
+            "({})",
+            shape
+                .iter()
+                .map(|n| n.to_string())
+                .collect::<Vec<_>>()
+                .join(", ")
+        ),
+    }
+}
+
+fn dtype_name(arr: &Bound<'_, PyAny>) -> String {
+    arr.getattr("dtype")
+        .and_then(|d| d.str())
+        .map(|s| s.to_string())
+        .unwrap_or_else(|_| "?".into())
+}
+
+/// The values of an array in logical (C) order, whatever its strides, as f64.
+fn f64_values(arr: &Bound<'_, PyAny>) -> PyResult<Vec<f64>> {
+    let conv = arr.call_method1("astype", ("float64",))?;
+    let ro: PyReadonlyArrayDyn<f64> = conv.extract()?;
+    Ok(ro.as_array().iter().copied().collect())
+}
+
+fn f32_values(arr: &Bound<'_, PyAny>) -> PyResult<Vec<f32>> {
+    let conv = arr.call_method1("astype", ("float32",))?;
+    let ro: PyReadonlyArrayDyn<f32> = conv.extract()?;
+    Ok(ro.as_array().iter().copied().collect())
+}
+
+fn i64_values(arr: &Bound<'_, PyAny>) -> PyResult<Vec<i64>> {
+    let conv = arr.call_method1("astype", ("int64",))?;
+    let ro: PyReadonlyArrayDyn<i64> = conv.extract()?;
+    Ok(ro.as_array().iter().copied().collect())
+}
+
+/// One data dict's arrays, checked for shape and type.
+fn data_arrays(
+    py: Python<'_>,
+    data: Option<&Bound<'_, PyDict>>,
+    count: usize,
+    kind: &str,
+) -> PyResult<Vec<Array>> {
+    let mut out = Vec::new();
+    let Some(data) = data else {
+        return Ok(out);
+    };
+    for (key, value) in data.iter() {
+        let name: String = key.extract().map_err(|_| {
+            PyValueError::new_err(format!("{kind}_data: names must be strings, found {key}"))
+        })?;
+        let what = format!("{kind}_data[{name:?}]");
+        let (arr, k, shape) = as_array(py, &value, &what)?;
+        let components = match shape.as_slice() {
+            [n] if *n == count => 1,
+            [n, c] if *n == count && *c >= 1 => *c,
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "{what}: expected shape ({count},) or ({count}, k) — one row per {} — found {}",
+                    if kind == "point" {
+                        "point"
+                    } else {
+                        "tetrahedron"
+                    },
+                    shape_str(&shape)
+                )));
+            }
+        };
+        let values = match k {
+            'f' if dtype_name(&arr) == "float32" => ArrayValues::F32(f32_values(&arr)?),
+            'f' => ArrayValues::F64(f64_values(&arr)?),
+            'i' | 'u' | 'b' => ArrayValues::Int(i64_values(&arr)?),
+            _ => {
+                return Err(PyValueError::new_err(format!(
+                    "{what}: expected numbers (float or int), found dtype {}",
+                    dtype_name(&arr)
+                )));
+            }
+        };
+        out.push(Array {
+            name,
+            components,
+            values,
+            line: 1,
+        });
+    }
+    Ok(out)
+}
+
+/// A message of the core about arrays, without the "file:line:" of file input.
+fn array_err(e: ParseError) -> PyErr {
+    PyValueError::new_err(e.message)
+}
+
+/// Points as (N, 3) coordinates, and whether they came as float32.
+fn read_points(py: Python<'_>, points: &Bound<'_, PyAny>) -> PyResult<(Vec<[f64; 3]>, bool)> {
+    let (parr, pk, pshape) = as_array(py, points, "points")?;
+    if pshape.len() != 2 || pshape[1] != 3 {
+        return Err(PyValueError::new_err(format!(
+            "points: expected shape (N, 3), found {}",
+            shape_str(&pshape)
+        )));
+    }
+    if !matches!(pk, 'f' | 'i' | 'u') {
+        return Err(PyValueError::new_err(format!(
+            "points: expected floats, found dtype {}",
+            dtype_name(&parr)
+        )));
+    }
+    let float32 = dtype_name(&parr) == "float32";
+    let flat = f64_values(&parr)?;
+    let nodes: Vec<[f64; 3]> = flat.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+
+    Ok((nodes, float32))
+}
+
+/// Refuses negative indices (the core checks the upper bound with its own message).
+fn check_indices(idx: &[i64], per: usize, n_nodes: usize, what: &str) -> PyResult<()> {
+    if let Some(p) = idx.iter().position(|&i| i < 0) {
+        return Err(PyValueError::new_err(format!(
+            "{what}[{}, {}] = {} is negative: point indices are 0-based, 0 … {}",
+            p / per,
+            p % per,
+            idx[p],
+            n_nodes.saturating_sub(1)
+        )));
+    }
+    Ok(())
+}
+
+/// The volume of a description built from arrays.
+fn build(
+    py: Python<'_>,
+    nodes: Vec<[f64; 3]>,
+    float32: bool,
+    cells: Cells,
+    point_data: Option<&Bound<'_, PyDict>>,
+    cell_data: Option<&Bound<'_, PyDict>>,
+) -> PyResult<PyVolume> {
+    let point_arrays = data_arrays(py, point_data, nodes.len(), "point")?;
+    let cell_arrays = data_arrays(py, cell_data, cells.len(), "cell")?;
+    let desc = MeshDescription {
+        source: "<arrays>".into(),
+        format: "numpy arrays".into(),
+        nodes,
+        float_coordinates: float32,
+        cells,
+        point_arrays,
+        cell_arrays,
+        points_line: 1,
+        cells_line: 1,
+        warnings: Vec::new(),
+    };
+    let (vol, warnings) = formats::build::volume(desc).map_err(array_err)?;
+    warn_all(py, warnings.iter().map(|w| w.to_string()))?;
+    Ok(PyVolume {
+        inner: Arc::new(vol),
+    })
+}
+
+#[pymethods]
+impl PyVolume {
+    /// Volume(points, tets, point_data=None, cell_data=None)
+    ///
+    /// points: (N, 3) float array; tets: (M, 4) int array of 0-based point indices;
+    /// point_data / cell_data: dicts name → (N,) / (N, k) or (M,) / (M, k) arrays. Fields are
+    /// numbered point data first, then cell data, in dict order; their names can be used in
+    /// map files (`DataField "name"`). Integer cell arrays with values in 0..255 become byte
+    /// Constant fields (materials). Raises ValueError for wrong shapes, indices out of range,
+    /// non-finite coordinates and degenerate tetrahedra.
+    #[new]
+    #[pyo3(signature = (points, tets, point_data=None, cell_data=None))]
+    fn new(
+        py: Python<'_>,
+        points: &Bound<'_, PyAny>,
+        tets: &Bound<'_, PyAny>,
+        point_data: Option<&Bound<'_, PyDict>>,
+        cell_data: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        let (nodes, float32) = read_points(py, points)?;
+        let (tarr, tk, tshape) = as_array(py, tets, "tets")?;
+        if tshape.len() != 2 || tshape[1] != 4 {
+            return Err(PyValueError::new_err(format!(
+                "tets: expected shape (M, 4), found {}",
+                shape_str(&tshape)
+            )));
+        }
+        if !matches!(tk, 'i' | 'u') {
+            return Err(PyValueError::new_err(format!(
+                "tets: expected integers (0-based point indices), found dtype {}",
+                dtype_name(&tarr)
+            )));
+        }
+        let idx = i64_values(&tarr)?;
+        check_indices(&idx, 4, nodes.len(), "tets")?;
+        let mut cells = Cells::default();
+        for c in idx.chunks_exact(4) {
+            let n: Vec<u64> = c.iter().map(|&i| i as u64).collect();
+            cells.push(cell_type::TETRA, &n);
+        }
+        build(py, nodes, float32, cells, point_data, cell_data)
+    }
+
+    /// Volume._from_blocks(points, blocks, point_data=None, cell_data=None): blocks is a list
+    /// of (VTK cell type, (k, n) int array); non-tetrahedral volume cells are split as the file
+    /// readers split them, other cells are skipped with a warning. Cell data covers the cells
+    /// of all blocks in order. (Used by from_meshio / from_pyvista.)
+    #[staticmethod]
+    #[pyo3(signature = (points, blocks, point_data=None, cell_data=None))]
+    fn _from_blocks(
+        py: Python<'_>,
+        points: &Bound<'_, PyAny>,
+        blocks: Vec<(u8, Bound<'_, PyAny>)>,
+        point_data: Option<&Bound<'_, PyDict>>,
+        cell_data: Option<&Bound<'_, PyDict>>,
+    ) -> PyResult<Self> {
+        let (nodes, float32) = read_points(py, points)?;
+        let mut cells = Cells::default();
+        for (ty, conn) in blocks {
+            let (arr, k, shape) = as_array(py, &conn, "cells")?;
+            if shape.len() != 2 || !matches!(k, 'i' | 'u') {
+                return Err(PyValueError::new_err(format!(
+                    "cells of type {}: expected an (k, n) integer array, found shape {} of dtype {}",
+                    cell_type::name(ty),
+                    shape_str(&shape),
+                    dtype_name(&arr)
+                )));
+            }
+            let idx = i64_values(&arr)?;
+            check_indices(&idx, shape[1].max(1), nodes.len(), "cells")?;
+            for c in idx.chunks_exact(shape[1].max(1)) {
+                let n: Vec<u64> = c.iter().map(|&i| i as u64).collect();
+                cells.push(ty, &n);
+            }
+        }
+        build(py, nodes, float32, cells, point_data, cell_data)
+    }
+    /// Volume.read(path): reads a mesh file of any format VoRANG reads (HyperMesh, .vtu,
+    /// .vtk, .msh). OSError for files that cannot be read, ValueError for invalid content.
+    #[staticmethod]
+    fn read(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
+        if !path.exists() {
+            return Err(PyOSError::new_err(format!(
+                "{}: no such file",
+                path.display()
+            )));
+        }
+        let (vol, warnings) = py.detach(|| vorang::Volume::load(&path)).map_err(py_err)?;
+        warn_all(py, warnings.iter().map(|w| w.to_string()))?;
+        Ok(PyVolume {
+            inner: Arc::new(vol),
+        })
+    }
+
+    /// Volume.from_meshio(mesh): a Volume from a meshio.Mesh (duck-typed, no meshio needed
+    /// here): points, cells, point_data, cell_data. Hexahedra, wedges, pyramids are split into
+    /// tetrahedra as the file readers split them; surface and line cells are skipped.
+    #[staticmethod]
+    fn from_meshio<'py>(py: Python<'py>, mesh: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        py.import("vorang")?.getattr("_from_meshio")?.call1((mesh,))
+    }
+
+    /// Volume.from_pyvista(grid): a Volume from a PyVista UnstructuredGrid (duck-typed):
+    /// points, celltypes, cells, point_data, cell_data; mixed cells split as the readers do.
+    #[staticmethod]
+    fn from_pyvista<'py>(py: Python<'py>, grid: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
+        py.import("vorang")?
+            .getattr("_from_pyvista")?
+            .call1((grid,))
+    }
+
+    /// Number of points.
+    #[getter]
+    fn n_points(&self) -> usize {
+        self.inner.mesh.node_count()
+    }
+
+    /// Number of tetrahedra.
+    #[getter]
+    fn n_tets(&self) -> usize {
+        self.inner.mesh.tet_count()
+    }
+
+    /// The field names in field-number order (None for unnamed fields).
+    #[getter]
+    fn field_names(&self) -> Vec<Option<String>> {
+        self.inner
+            .data
+            .fields
+            .iter()
+            .map(|f| f.name.clone())
+            .collect()
+    }
+
+    /// Points as an (N, 3) float64 array.
+    #[getter]
+    fn points<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
+        let flat: Vec<f64> = self.inner.mesh.nodes().iter().flatten().copied().collect();
+        let n = flat.len() / 3;
+        numpy::ndarray::Array2::from_shape_vec((n, 3), flat)
+            .expect("shape")
+            .into_pyarray(py)
+            .into_any()
+    }
+
+    /// Tetrahedra as an (M, 4) int64 array (0-based, as oriented by VoRANG).
+    #[getter]
+    fn tets<'py>(&self, py: Python<'py>) -> Bound<'py, PyAny> {
+        let flat: Vec<i64> = self
+            .inner
+            .mesh
+            .tets()
+            .iter()
+            .flatten()
+            .map(|&i| i64::from(i))
+            .collect();
+        let n = flat.len() / 4;
+        numpy::ndarray::Array2::from_shape_vec((n, 4), flat)
+            .expect("shape")
+            .into_pyarray(py)
+            .into_any()
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "vorang.Volume({} points, {} tetrahedra, {} fields)",
+            self.inner.mesh.node_count(),
+            self.inner.mesh.tet_count(),
+            self.inner.data.fields.len()
+        )
+    }
+}
+
+fn warn_all(py: Python<'_>, msgs: impl Iterator<Item = String>) -> PyResult<()> {
+    let warnings = py.import("warnings")?;
+    for m in msgs {
+        warnings.call_method1("warn", (m,))?;
+    }
+    Ok(())
+}
+
+/// Collects warnings of the script commands (shared so that they can be read back).
+#[derive(Clone, Default)]
+struct Shared(Arc<Mutex<Vec<String>>>);
+
+impl Reporter for Shared {
+    fn info(&mut self, _text: &str) {}
+    fn warn(&mut self, text: &str) {
+        if let Ok(mut v) = self.0.lock() {
+            v.push(text.to_string());
+        }
+    }
+}
+
+/// A word quoted for Tcl: every character Tcl treats specially gets a backslash.
+fn tcl_word(s: &str) -> String {
+    if s.is_empty() {
+        return "{}".into();
+    }
+    let mut out = String::with_capacity(s.len() + 8);
+    for c in s.chars() {
+        match c {
+            '\\' | '{' | '}' | '[' | ']' | '$' | '"' | ';' | ' ' | '#' => {
+                out.push('\\');
+                out.push(c);
+            }
+            '\t' => out.push_str("\\t"),
+            '\n' => out.push_str("\\n"),
+            '\r' => out.push_str("\\r"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// A number as the script reads it back exactly (shortest round-trip form).
+fn num(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:?}")
+    } else {
+        format!("{v}")
+    }
+}
+
+fn nums(v: &[f64]) -> String {
+    v.iter().map(|&x| num(x)).collect::<Vec<_>>().join(" ")
+}
+
+/// A map argument: None (the script's default), a path, map text ("# VoRANG …") or an object
+/// with a `text` attribute (vorang.Colormap / vorang.Alphamap).
+enum MapArg {
+    Default,
+    Path(PathBuf),
+    Text(String),
+}
+
+fn map_arg(obj: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<MapArg> {
+    let Some(obj) = obj else {
+        return Ok(MapArg::Default);
+    };
+    if obj.is_none() {
+        return Ok(MapArg::Default);
+    }
+    if let Ok(s) = obj.cast::<PyString>() {
+        let s = s.to_string();
+        let t = s.trim_start_matches('\u{feff}').trim_start();
+        if t.starts_with("# VoRANG") || t.starts_with("#VoRANG") {
+            return Ok(MapArg::Text(s));
+        }
+        return Ok(MapArg::Path(PathBuf::from(s)));
+    }
+    if let Ok(text) = obj.getattr("text") {
+        return Ok(MapArg::Text(text.extract()?));
+    }
+    if let Ok(p) = obj.extract::<PathBuf>() {
+        return Ok(MapArg::Path(p));
+    }
+    Err(PyValueError::new_err(format!(
+        "{what}: expected a map file path, a map text ('# VoRANG …') or a vorang map object, found {}",
+        obj.get_type().name()?
+    )))
+}
+
+fn load_color(arg: MapArg) -> PyResult<ColorMap> {
+    match arg {
+        MapArg::Default => Ok(ColorMap::default_map()),
+        MapArg::Path(p) => read_map::<dyn ColorShading>(&p)
+            .map(|(m, _)| m)
+            .map_err(py_err),
+        MapArg::Text(t) => parse_map::<dyn ColorShading>(t.as_bytes(), "<colormap>")
+            .map(|(m, _)| m)
+            .map_err(|e| PyValueError::new_err(e.to_string())),
+    }
+}
+
+fn load_alpha(arg: MapArg) -> PyResult<AlphaMap> {
+    match arg {
+        MapArg::Default => Ok(AlphaMap::default_map()),
+        MapArg::Path(p) => read_map::<dyn AlphaShading>(&p)
+            .map(|(m, _)| m)
+            .map_err(py_err),
+        MapArg::Text(t) => parse_map::<dyn AlphaShading>(t.as_bytes(), "<alphamap>")
+            .map(|(m, _)| m)
+            .map_err(|e| PyValueError::new_err(e.to_string())),
+    }
+}
+
+type Vec3 = [f64; 3];
+
+/// render(volume, *, size=(512, 512), colormap=None, alphamap=None, method="test 0.5",
+/// persp=None, ortho=None, look_at=None, rotate=(), scale=None, translate=None,
+/// background="white", linedraw="on")
+///
+/// Renders back to front and returns a float32 array of shape (h, w, 4), first row at the top:
+/// RGB exactly as the PFM output of the equivalent script holds it, plus alpha (the volume's
+/// opacity 1 − T). The volume transforms are applied as the script commands `vol_scale`,
+/// `vol_rotate` (each of `rotate`, in order), `vol_translate` given in that order.
+#[pyfunction]
+#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="test 0.5", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="on", progress=None))]
+#[allow(clippy::too_many_arguments)]
+fn render<'py>(
+    py: Python<'py>,
+    volume: &Bound<'py, PyVolume>,
+    size: (usize, usize),
+    colormap: Option<&Bound<'py, PyAny>>,
+    alphamap: Option<&Bound<'py, PyAny>>,
+    method: &str,
+    persp: Option<[f64; 4]>,
+    ortho: Option<[f64; 6]>,
+    look_at: Option<(Vec3, Vec3, Vec3)>,
+    rotate: Vec<[f64; 4]>,
+    scale: Option<Vec3>,
+    translate: Option<Vec3>,
+    background: Option<&Bound<'py, PyAny>>,
+    linedraw: &str,
+    progress: Option<Bound<'py, PyAny>>,
+) -> PyResult<Bound<'py, PyArray3<f32>>> {
+    let vol = Arc::clone(&volume.get().inner);
+    if persp.is_some() && ortho.is_some() {
+        return Err(PyValueError::new_err(
+            "give persp or ortho, not both (one camera)",
+        ));
+    }
+    // The equivalent script, run on a session holding the volume: same commands, same
+    // defaults, same checks and messages as the CLI.
+    let mut script: Vec<String> = vec![format!("imagesize {} {}", size.0, size.1)];
+    let words: Vec<String> = method.split_whitespace().map(tcl_word).collect();
+    if words.is_empty() {
+        return Err(PyValueError::new_err("method: empty method string"));
+    }
+    script.push(format!("method {}", words.join(" ")));
+    if let Some(p) = persp {
+        script.push(format!("persp_camera {}", nums(&p)));
+    }
+    if let Some(o) = ortho {
+        script.push(format!("ortho_camera {}", nums(&o)));
+    }
+    if let Some((e, r, u)) = look_at {
+        script.push(format!("look_at {} {} {}", nums(&e), nums(&r), nums(&u)));
+    }
+    if let Some(s) = scale {
+        script.push(format!("vol_scale {}", nums(&s)));
+    }
+    for r in &rotate {
+        script.push(format!("vol_rotate {}", nums(r)));
+    }
+    if let Some(t) = translate {
+        script.push(format!("vol_translate {}", nums(&t)));
+    }
+    match background {
+        None => {}
+        Some(b) if b.is_none() => {}
+        Some(b) => {
+            if let Ok(s) = b.cast::<PyString>() {
+                let s = s.to_string();
+                match s.as_str() {
+                    "white" | "clear" => script.push("background clear".into()),
+                    "none" | "transparent" => script.push("background none".into()),
+                    path => script.push(format!("background {}", tcl_word(path))),
+                }
+            } else if let Ok(rgb) = b.extract::<Vec3>() {
+                script.push(format!("background {}", nums(&rgb)));
+            } else if let Ok(p) = b.extract::<PathBuf>() {
+                script.push(format!("background {}", tcl_word(&p.display().to_string())));
+            } else {
+                return Err(PyValueError::new_err(
+                    "background: expected \"white\", \"clear\", \"none\", an (r, g, b) tuple or an image path",
+                ));
+            }
+        }
+    }
+    let lwords: Vec<String> = linedraw.split_whitespace().map(tcl_word).collect();
+    script.push(format!("linedraw {}", lwords.join(" ")));
+
+    let colormap = load_color(map_arg(colormap, "colormap")?)?;
+    let alphamap = load_alpha(map_arg(alphamap, "alphamap")?)?;
+
+    let reporter = Shared::default();
+    let (view, settings) = {
+        let mut runner = Runner::new(Box::new(reporter.clone()));
+        runner.session().volume = Some(Arc::clone(&vol));
+        for line in &script {
+            runner.run_string(line, "render").map_err(|e| {
+                if e.message.contains("No such file") || e.message.contains("no such file") {
+                    PyOSError::new_err(e.message)
+                } else {
+                    PyValueError::new_err(e.message)
+                }
+            })?;
+        }
+        let s = runner.session();
+        (s.view.clone(), s.settings.clone())
+    };
+    let (mapping, map_warnings) = Mapping::new(&colormap, &alphamap, &vol)
+        .map_err(|e| PyValueError::new_err(e.to_string()))?;
+    let mut msgs: Vec<String> = reporter.0.lock().map(|v| v.clone()).unwrap_or_default();
+    msgs.extend(map_warnings.iter().map(|w| w.to_string()));
+    warn_all(py, msgs.into_iter())?;
+
+    let (fb, stats) = render_interruptible(py, &vol, &mapping, &view, &settings, progress)?;
+    if let Some((x, y)) = stats.first_non_finite {
+        warn_all(
+            py,
+            std::iter::once(format!(
+                "render: {} pixels are NaN or infinite (the first at x {x}, y {y})",
+                stats.non_finite
+            )),
+        )?;
+    }
+    let (w, h) = (fb.width, fb.height);
+    let flat: Vec<f32> = fb.pixels.into_iter().flatten().collect();
+    let arr = Array3::from_shape_vec((h, w, 4), flat)
+        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
+    Ok(arr.into_pyarray(py))
+}
+
+/// Why a render stopped early (carried by an unwind out of the progress callback).
+struct Stop;
+
+/// Renders on a worker thread while this (the main) thread waits without the GIL, checking
+/// for signals every 20 ms: Ctrl-C (KeyboardInterrupt) or an exception of the progress
+/// callback stops the render at the next finished tile, and the exception is raised here.
+/// `progress` is called as progress(done, total), or, for a tqdm-like object (one with
+/// `update`), as `total` set once and update(n) per finished tile.
+fn render_interruptible(
+    py: Python<'_>,
+    vol: &vorang::Volume,
+    mapping: &Mapping,
+    view: &vorang::scene::View,
+    settings: &vorang::render::Settings,
+    progress: Option<Bound<'_, PyAny>>,
+) -> PyResult<(Framebuffer, vorang::render::Stats)> {
+    use std::sync::atomic::{AtomicBool, Ordering};
+    let stop = AtomicBool::new(false);
+    let error: Mutex<Option<PyErr>> = Mutex::new(None);
+    let tqdm = progress
+        .as_ref()
+        .is_some_and(|p| p.hasattr("update").unwrap_or(false));
+    let progress: Option<Py<PyAny>> = progress.map(Bound::unbind);
+    let started_total = AtomicBool::new(false);
+    let callback = |done: usize, total: usize| {
+        if let Some(p) = &progress {
+            Python::attach(|py| {
+                let p = p.bind(py);
+                let r = if tqdm {
+                    let first = !started_total.swap(true, Ordering::Relaxed);
+                    let set = if first {
+                        p.setattr("total", total)
+                            .and_then(|_| p.call_method0("refresh").map(|_| ()))
+                            .or(Ok::<(), PyErr>(()))
+                    } else {
+                        Ok(())
+                    };
+                    set.and_then(|_| p.call_method1("update", (1,)).map(|_| ()))
+                } else {
+                    p.call1((done, total)).map(|_| ())
+                };
+                if let Err(e) = r {
+                    if let Ok(mut slot) = error.lock() {
+                        slot.get_or_insert(e);
+                    }
+                    stop.store(true, Ordering::Relaxed);
+                }
+            });
+        }
+        if stop.load(Ordering::Relaxed) {
+            std::panic::resume_unwind(Box::new(Stop));
+        }
+    };
+    let result = py.detach(|| {
+        std::thread::scope(|scope| {
+            let worker = scope.spawn(|| {
+                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    vorang::render::render(vol, mapping, view, settings, Some(&callback))
+                }))
+            });
+            while !worker.is_finished() {
+                std::thread::sleep(std::time::Duration::from_millis(20));
+                let checked = Python::attach(|py| py.check_signals());
+                if let Err(e) = checked {
+                    if let Ok(mut slot) = error.lock() {
+                        slot.get_or_insert(e);
+                    }
+                    stop.store(true, Ordering::Relaxed);
+                }
+            }
+            worker.join()
+        })
+    });
+    if let Some(e) = error.lock().ok().and_then(|mut slot| slot.take()) {
+        return Err(e);
+    }
+    match result {
+        Ok(Ok(r)) => r.map_err(py_err),
+        Ok(Err(payload)) | Err(payload) => {
+            if payload.is::<Stop>() {
+                Err(PyRuntimeError::new_err("the render was stopped"))
+            } else {
+                std::panic::resume_unwind(payload)
+            }
+        }
+    }
+}
+
+/// save(image, path, *, transparent=False): writes an (h, w, 4) (or (h, w, 3)) float array
+/// as `render` returns it to an image file of any output format (by extension: .pfm, .png,
+/// .tiff, .exr, .rgb, …), as the script's render commands write it. transparent=True writes
+/// straight alpha, as after `background none`.
+#[pyfunction]
+#[pyo3(signature = (image, path, *, transparent=false))]
+fn save(
+    py: Python<'_>,
+    image: &Bound<'_, PyAny>,
+    path: PathBuf,
+    transparent: bool,
+) -> PyResult<()> {
+    let (arr, k, shape) = as_array(py, image, "image")?;
+    if shape.len() != 3 || !(shape[2] == 4 || shape[2] == 3) || !matches!(k, 'f' | 'i' | 'u') {
+        return Err(PyValueError::new_err(format!(
+            "image: expected a float array of shape (h, w, 4) or (h, w, 3), found shape {} of dtype {}",
+            shape_str(&shape),
+            dtype_name(&arr)
+        )));
+    }
+    let (h, w, c) = (shape[0], shape[1], shape[2]);
+    vorang::render::check_size(w, h).map_err(PyValueError::new_err)?;
+    let values = f32_values(&arr)?;
+    let pixels: Vec<[f32; 4]> = values
+        .chunks_exact(c)
+        .map(|p| [p[0], p[1], p[2], if c == 4 { p[3] } else { 1.0 }])
+        .collect();
+    let fb = Framebuffer {
+        width: w,
+        height: h,
+        pixels,
+        transparent,
+    };
+    py.detach(|| write_image(&fb, &path)).map_err(py_err)
+}
+
+/// run_script(path_or_text): runs a VoRANG (Tcl) script file, or script text, as `vorang
+/// script.tcl` / `vorang -e` do; messages go to stdout/stderr. Raises OSError for a missing
+/// script file and RuntimeError ("file:line: message") when the script fails.
+#[pyfunction]
+fn run_script(py: Python<'_>, path_or_text: &Bound<'_, PyAny>) -> PyResult<()> {
+    let (is_file, text): (bool, String) = if let Ok(s) = path_or_text.cast::<PyString>() {
+        let s = s.to_string();
+        let one_line = !s.contains('\n');
+        let p = Path::new(&s);
+        if one_line && p.is_file() {
+            (true, s)
+        } else if one_line && s.trim_end().ends_with(".tcl") {
+            return Err(PyOSError::new_err(format!("{s}: no such script file")));
+        } else {
+            (false, s)
+        }
+    } else {
+        let p: PathBuf = path_or_text.extract()?;
+        if !p.is_file() {
+            return Err(PyOSError::new_err(format!(
+                "{}: no such script file",
+                p.display()
+            )));
+        }
+        (true, p.display().to_string())
+    };
+    // The interpreter is not thread-safe: it runs on this thread, holding the GIL.
+    let _ = py;
+    let mut runner = Runner::new(Box::new(Terminal));
+    let result = if is_file {
+        runner.run_file(Path::new(&text))
+    } else {
+        runner.run_string(&text, "<script>").map(|_| ())
+    };
+    result.map_err(|e| PyRuntimeError::new_err(e.to_string()))
+}
+
+#[pymodule]
+fn _vorang(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add_class::<PyVolume>()?;
+    m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_function(wrap_pyfunction!(save, m)?)?;
+    m.add_function(wrap_pyfunction!(run_script, m)?)?;
+    Ok(())
+}

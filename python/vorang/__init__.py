@@ -1,0 +1,325 @@
+"""VoRANG: direct volume rendering of tetrahedral meshes, from Python.
+
+    import numpy as np, vorang
+    vol = vorang.Volume.read("inclusion.vtu")
+    img = vorang.render(vol, size=(320, 200), colormap="temperature.cmap",
+                        ortho=(-1.3, 1.3, -0.8125, 0.8125, -10, 10))
+    vorang.save(img, "inclusion.png")
+
+`render` returns a float32 array of shape (h, w, 4), first row at the top; its RGB values are
+exactly those the PFM output of the equivalent script holds.
+"""
+
+from __future__ import annotations
+
+from typing import Sequence
+
+from . import _vorang
+from ._vorang import Volume, run_script, save
+
+__all__ = ["Volume", "render", "save", "run_script", "Colormap", "Alphamap"]
+
+
+def render(
+    volume,
+    *,
+    size=(512, 512),
+    colormap=None,
+    alphamap=None,
+    method="test 0.5",
+    persp=None,
+    ortho=None,
+    look_at=None,
+    rotate=(),
+    scale=None,
+    translate=None,
+    background="white",
+    linedraw="on",
+    progress=None,
+):
+    """Renders `volume` back to front; returns a float32 array of shape (h, w, 4).
+
+    The first row is the top of the image. RGB is exactly what the PFM output of the equivalent
+    script holds; the fourth channel is alpha (the volume's opacity 1 - T).
+
+    size: (w, h) (`imagesize`, default 512 x 512). colormap / alphamap: a map-file path, map
+    text (starting with "# VoRANG"), or a `Colormap` / `Alphamap`; None = the script's
+    defaults (constant red emission, constant absorption 2). method: the script's method
+    string, e.g. "exact linear 0 1.0". persp=(fovy, aspect, near, far) (`persp_camera`),
+    ortho=(l, r, b, t, front, back) (`ortho_camera`), look_at=(eye, ref, up) (`look_at`);
+    neither camera: the script's default camera. The volume transforms are applied like the
+    script commands in this order: `vol_scale scale`, `vol_rotate x y z degrees` for each of
+    `rotate` in order, `vol_translate translate`. background: "white" (= "clear"), "none"
+    (no background light, transparent), an (r, g, b) tuple or an image path (`background`).
+    linedraw: "on" (the script's default: all grid lines), "off", or "field {values}".
+
+    progress: called as progress(done, total) as screen tiles finish, or a tqdm-like object
+    (with `update`): its `total` is set and update(1) called per tile.
+
+    Raises ValueError (bad arguments, maps that do not fit the volume) or OSError (files),
+    with the CLI's messages. The GIL is released while rendering; an exception raised by
+    `progress` (e.g. KeyboardInterrupt) stops the render at the next tile and is raised here.
+    Ctrl-C is checked while rendering, but at present only takes effect when the render ends.
+    """
+    return _vorang.render(
+        volume,
+        size=tuple(size),
+        colormap=colormap,
+        alphamap=alphamap,
+        method=method,
+        persp=None if persp is None else tuple(persp),
+        ortho=None if ortho is None else tuple(ortho),
+        look_at=None if look_at is None else tuple(tuple(v) for v in look_at),
+        rotate=[tuple(r) for r in rotate],
+        scale=None if scale is None else tuple(scale),
+        translate=None if translate is None else tuple(translate),
+        background=background,
+        linedraw=linedraw,
+        progress=progress,
+    )
+
+
+# meshio cell type names → VTK cell types (the readers' numbering).
+_MESHIO_TYPES = {
+    "vertex": 1,
+    "line": 3,
+    "triangle": 5,
+    "quad": 9,
+    "tetra": 10,
+    "hexahedron": 12,
+    "wedge": 13,
+    "pyramid": 14,
+    "tetra10": 24,
+}
+
+
+def _from_meshio(mesh) -> Volume:
+    """A Volume from a meshio.Mesh (duck-typed: points, cells with .type/.data,
+    point_data, cell_data). Hexahedra, wedges and pyramids are split into tetrahedra as the
+    file readers split them; other cells are skipped with a warning."""
+    import numpy as np
+
+    blocks = []
+    for block in mesh.cells:
+        ty = _MESHIO_TYPES.get(block.type)
+        if ty is None:
+            raise ValueError(f"from_meshio: cell type {block.type!r} is not supported")
+        blocks.append((ty, np.asarray(block.data)))
+    cell_data = {}
+    for name, per_block in dict(mesh.cell_data).items():
+        cell_data[name] = np.concatenate([np.asarray(a) for a in per_block])
+    return Volume._from_blocks(
+        np.asarray(mesh.points), blocks, dict(mesh.point_data), cell_data
+    )
+
+
+def _from_pyvista(grid) -> Volume:
+    """A Volume from a PyVista UnstructuredGrid (duck-typed: points, celltypes, cells in
+    the [n, i0, …, n, …] layout, point_data, cell_data). Mixed cells are split as the readers
+    split them."""
+    import numpy as np
+
+    types = np.asarray(grid.celltypes)
+    cells = np.asarray(grid.cells)
+    blocks = []
+    pos = 0
+    for ty in types.tolist():
+        n = int(cells[pos])
+        blocks.append((int(ty), cells[pos + 1 : pos + 1 + n].reshape(1, n)))
+        pos += 1 + n
+    point_data = {k: np.asarray(grid.point_data[k]) for k in grid.point_data.keys()}
+    cell_data = {k: np.asarray(grid.cell_data[k]) for k in grid.cell_data.keys()}
+    return Volume._from_blocks(np.asarray(grid.points), blocks, point_data, cell_data)
+
+
+def _rows(values, columns, what):
+    import numpy as np
+
+    v = np.asarray(values, dtype=float).reshape(-1)
+    c = np.asarray(columns, dtype=float)
+    if c.ndim == 1:
+        c = c.reshape(-1, 1)
+    if c.shape[0] != v.shape[0]:
+        raise ValueError(
+            f"{what}: {v.shape[0]} values but {c.shape[0]} rows; give one row per value"
+        )
+    if v.shape[0] < 1:
+        raise ValueError(f"{what}: at least one value is needed")
+    return v, c
+
+
+def _field_line(field):
+    if field is None:
+        return ""
+    if isinstance(field, str):
+        return f'DataField "{field}"\n'
+    return f"DataField {int(field)}\n"
+
+
+class Colormap:
+    """A colormap (data → emission η) as map-file text ("# VoRANG Colormap 1.0").
+
+    Pass it as `colormap=` to `render`; `str(cmap)` / `cmap.text` is the map file.
+    """
+
+    def __init__(self, text: str):
+        self.text = text
+
+    def __str__(self) -> str:
+        return self.text
+
+    def __repr__(self) -> str:
+        return f"vorang.Colormap({self.text!r})"
+
+    def save(self, path) -> None:
+        """Writes the map file."""
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(self.text)
+
+    @classmethod
+    def table(cls, values: Sequence[float], rgb, field=None) -> "Colormap":
+        """SIMPLE_EMITTER: emission rgb[i] at data value values[i] (strictly increasing),
+        linear in between, clamped outside. `field`: a field number or name (default: the
+        map's default DataField 0)."""
+        v, c = _rows(values, rgb, "Colormap.table")
+        if c.shape[1] != 3:
+            raise ValueError(f"Colormap.table: rgb needs 3 columns, found {c.shape[1]}")
+        rows = "".join(f"{r!r} {g!r} {b!r} {x!r}\n" for (r, g, b), x in zip(c.tolist(), v.tolist()))
+        return cls(f"# VoRANG Colormap 1.0\n{_field_line(field)}SIMPLE_EMITTER @1\n@1\n{rows}")
+
+    @classmethod
+    def constant(cls, rgb, field=None) -> "Colormap":
+        """CONSTANT emission (r, g, b) everywhere."""
+        r, g, b = (float(x) for x in rgb)
+        return cls(f"# VoRANG Colormap 1.0\n{_field_line(field)}CONSTANT @1\n@1\n{r!r} {g!r} {b!r}\n")
+
+    @classmethod
+    def preset(cls, name: str, lo: float, hi: float, field=None, brightness: float = 1.0) -> "Colormap":
+        """A matplotlib-style colormap (viridis, magma, plasma, inferno, coolwarm, grey/gray,
+        hot) spread over [lo, hi] as a SIMPLE_EMITTER table of a few knots."""
+        key = name.lower()
+        if key.endswith("_r"):
+            knots = list(reversed(_PRESETS.get(key[:-2], [])))
+        else:
+            knots = _PRESETS.get(key)
+        if not knots:
+            raise ValueError(
+                f"Colormap.preset: unknown name {name!r}; known: {', '.join(sorted(_PRESETS))}"
+            )
+        if not hi > lo:
+            raise ValueError(f"Colormap.preset: need lo < hi, found {lo} and {hi}")
+        n = len(knots)
+        values = [lo + (hi - lo) * i / (n - 1) for i in range(n)]
+        rgb = [[brightness * c for c in k] for k in knots]
+        return cls.table(values, rgb, field=field)
+
+
+class Alphamap:
+    """An alphamap (data → absorption χ) as map-file text ("# VoRANG Alphamap 1.0")."""
+
+    def __init__(self, text: str):
+        self.text = text
+
+    def __str__(self) -> str:
+        return self.text
+
+    def __repr__(self) -> str:
+        return f"vorang.Alphamap({self.text!r})"
+
+    def save(self, path) -> None:
+        """Writes the map file."""
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(self.text)
+
+    @classmethod
+    def table(cls, values: Sequence[float], chi, field=None) -> "Alphamap":
+        """SIMPLE_ABSORBER: absorption chi[i] at data value values[i] (strictly increasing),
+        linear in between, clamped outside."""
+        v, c = _rows(values, chi, "Alphamap.table")
+        if c.shape[1] != 1:
+            raise ValueError(f"Alphamap.table: chi needs one value per row, found {c.shape[1]}")
+        rows = "".join(f"{a!r} {x!r}\n" for a, x in zip(c[:, 0].tolist(), v.tolist()))
+        return cls(f"# VoRANG Alphamap 1.0\n{_field_line(field)}SIMPLE_ABSORBER @1\n@1\n{rows}")
+
+    @classmethod
+    def constant(cls, chi: float) -> "Alphamap":
+        """CONSTANT absorption χ everywhere."""
+        return cls(f"# VoRANG Alphamap 1.0\nCONSTANT @1\n@1\n{float(chi)!r}\n")
+
+
+# A few knots of matplotlib's colormaps (sampled at equal steps).
+_PRESETS = {
+    "viridis": [
+        (0.267004, 0.004874, 0.329415),
+        (0.282623, 0.140926, 0.457517),
+        (0.253935, 0.265254, 0.529983),
+        (0.206756, 0.371758, 0.553117),
+        (0.163625, 0.471133, 0.558148),
+        (0.127568, 0.566949, 0.550556),
+        (0.134692, 0.658636, 0.517649),
+        (0.266941, 0.748751, 0.440573),
+        (0.477504, 0.821444, 0.318195),
+        (0.741388, 0.873449, 0.149561),
+        (0.993248, 0.906157, 0.143936),
+    ],
+    "magma": [
+        (0.001462, 0.000466, 0.013866),
+        (0.078815, 0.054184, 0.211667),
+        (0.232077, 0.059889, 0.437695),
+        (0.390384, 0.100379, 0.501864),
+        (0.550287, 0.161158, 0.505719),
+        (0.716387, 0.214982, 0.47529),
+        (0.868793, 0.287728, 0.409303),
+        (0.967671, 0.439703, 0.35981),
+        (0.994738, 0.62435, 0.427397),
+        (0.99568, 0.812706, 0.572645),
+        (0.987053, 0.991438, 0.749504),
+    ],
+    "inferno": [
+        (0.001462, 0.000466, 0.013866),
+        (0.087411, 0.044556, 0.224813),
+        (0.258234, 0.038571, 0.406485),
+        (0.416331, 0.090203, 0.432943),
+        (0.578304, 0.148039, 0.404411),
+        (0.735683, 0.215906, 0.330245),
+        (0.865006, 0.316822, 0.226055),
+        (0.954506, 0.468744, 0.099874),
+        (0.987622, 0.64532, 0.039886),
+        (0.964394, 0.843848, 0.273391),
+        (0.988362, 0.998364, 0.644924),
+    ],
+    "plasma": [
+        (0.050383, 0.029803, 0.527975),
+        (0.254627, 0.013882, 0.615419),
+        (0.417642, 0.000564, 0.65839),
+        (0.562738, 0.051545, 0.641509),
+        (0.69284, 0.165141, 0.564522),
+        (0.798216, 0.280197, 0.469538),
+        (0.881443, 0.392529, 0.383229),
+        (0.949217, 0.517763, 0.295662),
+        (0.98826, 0.652325, 0.211364),
+        (0.988648, 0.809579, 0.145357),
+        (0.940015, 0.975158, 0.131326),
+    ],
+    "coolwarm": [
+        (0.229806, 0.298718, 0.753683),
+        (0.354901, 0.473246, 0.881098),
+        (0.486282, 0.630739, 0.956852),
+        (0.62202, 0.750657, 0.999269),
+        (0.752746, 0.821898, 0.977733),
+        (0.865395, 0.86541, 0.86539),
+        (0.956834, 0.798069, 0.719216),
+        (0.968203, 0.682739, 0.576094),
+        (0.937077, 0.532315, 0.42068),
+        (0.851695, 0.373814, 0.287004),
+        (0.705673, 0.015556, 0.150233),
+    ],
+    "grey": [(0.0, 0.0, 0.0), (1.0, 1.0, 1.0)],
+    "gray": [(0.0, 0.0, 0.0), (1.0, 1.0, 1.0)],
+    "hot": [
+        (0.0416, 0.0, 0.0),
+        (1.0, 0.0, 0.0),
+        (1.0, 1.0, 0.0),
+        (1.0, 1.0, 1.0),
+    ],
+}

@@ -1,0 +1,88 @@
+"""Type stubs of the vorang package."""
+
+import os
+from typing import Mapping, Optional, Sequence, Tuple, Union
+
+import numpy as np
+import numpy.typing as npt
+
+_Path = Union[str, "os.PathLike[str]"]
+_Vec3 = Tuple[float, float, float]
+
+class Volume:
+    """A tetrahedral mesh with its fields."""
+
+    def __init__(
+        self,
+        points: npt.ArrayLike,
+        tets: npt.ArrayLike,
+        point_data: Optional[Mapping[str, npt.ArrayLike]] = None,
+        cell_data: Optional[Mapping[str, npt.ArrayLike]] = None,
+    ) -> None: ...
+    @staticmethod
+    def read(path: _Path) -> "Volume": ...
+    @staticmethod
+    def from_meshio(mesh: object) -> "Volume": ...
+    @staticmethod
+    def from_pyvista(grid: object) -> "Volume": ...
+    @property
+    def n_points(self) -> int: ...
+    @property
+    def n_tets(self) -> int: ...
+    @property
+    def field_names(self) -> list[Optional[str]]: ...
+    @property
+    def points(self) -> npt.NDArray[np.float64]: ...
+    @property
+    def tets(self) -> npt.NDArray[np.int64]: ...
+
+class Colormap:
+    text: str
+    def __init__(self, text: str) -> None: ...
+    def save(self, path: _Path) -> None: ...
+    @classmethod
+    def table(
+        cls, values: Sequence[float], rgb: npt.ArrayLike, field: Union[int, str, None] = None
+    ) -> "Colormap": ...
+    @classmethod
+    def constant(cls, rgb: Sequence[float], field: Union[int, str, None] = None) -> "Colormap": ...
+    @classmethod
+    def preset(
+        cls,
+        name: str,
+        lo: float,
+        hi: float,
+        field: Union[int, str, None] = None,
+        brightness: float = 1.0,
+    ) -> "Colormap": ...
+
+class Alphamap:
+    text: str
+    def __init__(self, text: str) -> None: ...
+    def save(self, path: _Path) -> None: ...
+    @classmethod
+    def table(
+        cls, values: Sequence[float], chi: npt.ArrayLike, field: Union[int, str, None] = None
+    ) -> "Alphamap": ...
+    @classmethod
+    def constant(cls, chi: float) -> "Alphamap": ...
+
+def render(
+    volume: Volume,
+    *,
+    size: Tuple[int, int] = (512, 512),
+    colormap: Union[None, str, _Path, Colormap] = None,
+    alphamap: Union[None, str, _Path, Alphamap] = None,
+    method: str = "test 0.5",
+    persp: Optional[Tuple[float, float, float, float]] = None,
+    ortho: Optional[Tuple[float, float, float, float, float, float]] = None,
+    look_at: Optional[Tuple[_Vec3, _Vec3, _Vec3]] = None,
+    rotate: Sequence[Tuple[float, float, float, float]] = (),
+    scale: Optional[_Vec3] = None,
+    translate: Optional[_Vec3] = None,
+    background: Union[str, _Vec3, _Path, None] = "white",
+    linedraw: str = "on",
+    progress: Optional[object] = None,
+) -> npt.NDArray[np.float32]: ...
+def save(image: npt.ArrayLike, path: _Path, *, transparent: bool = False) -> None: ...
+def run_script(path_or_text: Union[str, _Path]) -> None: ...
