@@ -977,3 +977,43 @@ fn span_kernels_agree_with_the_scalar_path() {
         }
     }
 }
+
+/// A render whose cancel flag is set (here by its progress callback after the first tile, as the
+/// Python package does on Ctrl-C) skips the tiles not yet started and returns an error, not a
+/// partial image.
+#[test]
+fn a_cancelled_render_stops_early_and_returns_no_image() {
+    use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+    let vol = box_volume(6, [1.0, 1.0, 1.0], 0.1, 5);
+    let m = constant_maps(&vol, [1.0; 3], 1.0);
+    let s = Settings {
+        tile: 8,
+        ..settings(64, 64, "exact linear 0 1")
+    };
+    let cancel = AtomicBool::new(false);
+    let finished = AtomicUsize::new(0);
+    let progress = |_: usize, _: usize| {
+        finished.fetch_add(1, Ordering::Relaxed);
+        cancel.store(true, Ordering::Relaxed);
+    };
+    let r = vorang::render::render_cancellable(
+        &vol,
+        &m,
+        &View::default(),
+        &s,
+        Some(&progress),
+        &cancel,
+    );
+    match r {
+        Err(e) => assert!(e.to_string().contains(vorang::render::CANCELLED), "{e}"),
+        Ok(_) => panic!("a cancelled render returned an image"),
+    }
+    // 64 tiles; only those already running when the flag was set finish.
+    let n = finished.load(Ordering::Relaxed);
+    assert!(
+        n >= 1 && n <= rayon::current_num_threads() + 1,
+        "{n} tiles finished"
+    );
+    // Without the flag the same render completes.
+    assert!(render(&vol, &m, &View::default(), &s, None).is_ok());
+}

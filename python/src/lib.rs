@@ -635,7 +635,8 @@ struct Stop;
 
 /// Renders on a worker thread while this (the main) thread waits without the GIL, checking
 /// for signals every 20 ms: Ctrl-C (KeyboardInterrupt) or an exception of the progress
-/// callback stops the render at the next finished tile, and the exception is raised here.
+/// callback sets the render's cancel flag (tiles not yet started are skipped) and the
+/// exception is raised here.
 /// `progress` is called as progress(done, total), or, for a tqdm-like object (one with
 /// `update`), as `total` set once and update(n) per finished tile.
 fn render_interruptible(
@@ -687,7 +688,14 @@ fn render_interruptible(
         std::thread::scope(|scope| {
             let worker = scope.spawn(|| {
                 std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    vorang::render::render(vol, mapping, view, settings, Some(&callback))
+                    vorang::render::render_cancellable(
+                        vol,
+                        mapping,
+                        view,
+                        settings,
+                        Some(&callback),
+                        &stop,
+                    )
                 }))
             });
             while !worker.is_finished() {

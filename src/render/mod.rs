@@ -203,6 +203,30 @@ pub fn render(
     settings: &Settings,
     progress: Option<&(dyn Fn(usize, usize) + Sync)>,
 ) -> Result<(Framebuffer, Stats), Error> {
+    render_cancellable(
+        vol,
+        mapping,
+        view,
+        settings,
+        progress,
+        &std::sync::atomic::AtomicBool::new(false),
+    )
+}
+
+/// The message of a render stopped through its `cancel` flag.
+pub const CANCELLED: &str = "the render was cancelled";
+
+/// [`render`] that stops early once `cancel` is set (from another thread, e.g. on Ctrl-C): tiles
+/// not yet started are skipped and the result is an error ([`CANCELLED`]), never a partial
+/// image.
+pub fn render_cancellable(
+    vol: &Volume,
+    mapping: &Mapping,
+    view: &View,
+    settings: &Settings,
+    progress: Option<&(dyn Fn(usize, usize) + Sync)>,
+    cancel: &std::sync::atomic::AtomicBool,
+) -> Result<(Framebuffer, Stats), Error> {
     let started = Instant::now();
     let (width, height) = (settings.width, settings.height);
     check_size(width, height).map_err(Error::Invalid)?;
@@ -342,6 +366,9 @@ pub fn render(
                 x1: ((t % tx + 1) * tile).min(width),
                 y1: ((t / tx + 1) * tile).min(height),
             };
+            if cancel.load(Ordering::Relaxed) {
+                return ([0, 0], 0, (0, Vec::new()));
+            }
             let list = &binned[t];
             let (o, pp) = (settings.order, per_pixel);
             let (out, fragments, most, overlaps) = match &settings.method {
@@ -365,6 +392,9 @@ pub fn render(
             (fragments, most, overlaps)
         })
         .collect();
+    if cancel.load(Ordering::Relaxed) {
+        return Err(Error::Invalid(CANCELLED.into()));
+    }
     let mut fb = fb.into_inner().unwrap_or_else(|e| e.into_inner());
     fb.transparent = matches!(settings.background, Background::None);
     let fragments = tiles.iter().map(|t| t.0[0]).sum();
