@@ -142,8 +142,9 @@ impl SpanBuffer {
         self.far.clear();
     }
 
-    #[inline]
-    pub fn push(&mut self, slot: usize, x: f64, y: f64, near: f64, far: f64) {
+    /// One pixel (the tile loop gathers whole runs with [`SpanBuffer::push_run`]).
+    #[cfg(test)]
+    fn push(&mut self, slot: usize, x: f64, y: f64, near: f64, far: f64) {
         self.slot.push(slot as u32);
         self.x.push(x);
         self.y.push(y);
@@ -197,6 +198,12 @@ impl SpanBuffer {
 /// with a [`Clip`], composites the piece's contribution behind what they hold (so pieces are
 /// shaded from the nearest to the farthest along the rays; start from [`SpanBuffer::reset`]).
 pub fn shade(cell: &SpanCell, buf: &mut SpanBuffer) {
+    shade_with(kernel(), cell, buf);
+}
+
+/// [`shade`] with the kernel compiled for `k` (the baseline one where the processor lacks
+/// `k`'s features).
+fn shade_with(k: Kernel, cell: &SpanCell, buf: &mut SpanBuffer) {
     let n = buf.len();
     // Pad the inputs to whole batches with empty segments (their results are ignored).
     let padded = n.div_ceil(LANES) * LANES;
@@ -207,7 +214,7 @@ pub fn shade(cell: &SpanCell, buf: &mut SpanBuffer) {
         v.resize(padded, 0.0);
     }
     buf.theta.resize(padded, 1.0);
-    dispatch(cell, buf);
+    run_on(k, cell, buf);
     for v in [&mut buf.x, &mut buf.y, &mut buf.near, &mut buf.far] {
         v.truncate(n);
     }
@@ -221,6 +228,19 @@ pub enum Kernel {
     Avx2,
     #[cfg(target_arch = "x86_64")]
     Avx512,
+}
+
+impl Kernel {
+    /// The instruction set, for the timing line.
+    pub fn name(self) -> &'static str {
+        match self {
+            Kernel::Baseline => "baseline",
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx2 => "AVX2",
+            #[cfg(target_arch = "x86_64")]
+            Kernel::Avx512 => "AVX-512",
+        }
+    }
 }
 
 /// The widest kernel the processor supports (decided once).
@@ -238,10 +258,6 @@ pub fn kernel() -> Kernel {
         }
         Kernel::Baseline
     })
-}
-
-fn dispatch(cell: &SpanCell, buf: &mut SpanBuffer) {
-    run_on(kernel(), cell, buf);
 }
 
 /// Whether this processor can run kernel `k`.
@@ -468,15 +484,7 @@ mod tests {
         let kinds = [Kernel::Baseline];
         for k in kinds.into_iter().filter(|&k| supported(k)) {
             let mut buf = buffer(19);
-            let padded = 19usize.div_ceil(LANES) * LANES;
-            for v in [&mut buf.x, &mut buf.y, &mut buf.near, &mut buf.far] {
-                v.resize(padded, 0.0);
-            }
-            for v in buf.b.iter_mut() {
-                v.resize(padded, 0.0);
-            }
-            buf.theta.resize(padded, 1.0);
-            run_on(k, &c, &mut buf);
+            shade_with(k, &c, &mut buf);
             for i in 0..19 {
                 for ch in 0..3 {
                     assert_eq!(

@@ -162,7 +162,7 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
             ms(t.draw),
             stats.fragments,
             100.0 * stats.lane_fragments as f64 / stats.fragments.max(1) as f64,
-            kernel_name(),
+            crate::render::span::kernel().name(),
             rayon::current_num_threads()
         ));
     }
@@ -185,14 +185,3 @@ pub const RENDER_FTB: CommandInfo = CommandInfo {
     details: "Same image as render_btf up to the early-termination threshold (transparency below 1e-6).",
     run: |s: &mut Session, c: &Call| render_command(s, c, Order::FrontToBack),
 };
-
-/// The span kernel this processor runs, for the timing line.
-fn kernel_name() -> &'static str {
-    match crate::render::span::kernel() {
-        crate::render::span::Kernel::Baseline => "SSE2",
-        #[cfg(target_arch = "x86_64")]
-        crate::render::span::Kernel::Avx2 => "AVX2",
-        #[cfg(target_arch = "x86_64")]
-        crate::render::span::Kernel::Avx512 => "AVX-512",
-    }
-}
