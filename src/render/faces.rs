@@ -281,26 +281,26 @@ impl CellFaces {
         if self.perspective { 1.0 / z } else { z }
     }
 
-    /// [`CellFaces::depth`] for the pixels `x0..x1` of the row at screen y = `py`, appended to
-    /// `out`: the same expression, so the same bits, without the per-pixel branches.
+    /// [`CellFaces::depth`] along the row at screen y = `py` for face `f`, as a function of the
+    /// pixel centre's x: the same expression, so the same bits, with the row's part computed
+    /// once. `None` for a sliver face (use [`CellFaces::depth`]).
     #[inline]
-    pub fn depths(&self, f: usize, py: f64, x0: usize, x1: usize, out: &mut Vec<f64>) {
+    pub fn depth_row(&self, f: usize, py: f64) -> Option<DepthRow> {
         let face = &self.faces[f];
         if face.sliver {
-            out.extend((x0..x1).map(|x| self.depth(f, [x as f64 + 0.5, py])));
-            return;
+            return None;
         }
         let [z0, gx, gy] = face.plane;
         let a = face.s[0];
-        let dy = gy * (py - a[1]);
-        let (lo, hi) = (face.zmin, face.zmax);
-        let z = |x: usize| (z0 + gx * ((x as f64 + 0.5) - a[0]) + dy).max(lo).min(hi);
-        if self.perspective {
-            // The plane holds inverse depths.
-            out.extend((x0..x1).map(|x| 1.0 / z(x)));
-        } else {
-            out.extend((x0..x1).map(z));
-        }
+        Some(DepthRow {
+            z0,
+            gx,
+            ax: a[0],
+            dy: gy * (py - a[1]),
+            lo: face.zmin,
+            hi: face.zmax,
+            perspective: self.perspective,
+        })
     }
 
     /// Prepares row `y` of the footprint, pixels `x0..x1`: where each inner edge splits it
@@ -330,33 +330,11 @@ impl CellFaces {
         row
     }
 
-    /// [`CellFaces::hit`] for pixel x of a prepared row. (The face choice is written out here
-    /// again rather than shared with `hit` through a closure: measured, that cost 4 % of a frame.)
+    /// [`CellFaces::hit`] for pixel x of a prepared row.
     #[inline]
     pub fn hit_in_row(&self, row: &Row, x: usize, y: usize) -> Option<FaceHit> {
-        let holds = |f: usize| {
-            let face = &self.faces[f];
-            (0..3).all(|k| {
-                if !face.inner[k] {
-                    return true;
-                }
-                let (e, against) = face.edge[k];
-                let e = e as usize;
-                let inside = (x >= row.split[e]) == row.rising[e];
-                inside != against
-            })
-        };
-        let pick = |list: &[u8]| -> Option<usize> {
-            let (last, rest) = list.split_last()?;
-            for &f in rest {
-                if holds(f as usize) {
-                    return Some(f as usize);
-                }
-            }
-            Some(*last as usize)
-        };
-        let entry_face = pick(&self.entry[..self.entries as usize])?;
-        let exit_face = pick(&self.exit[..self.exits as usize])?;
+        let (entry, exit) = self.faces_in_row(row, x)?;
+        let (entry_face, exit_face) = (entry as usize, exit as usize);
         let p = [x as f64 + 0.5, y as f64 + 0.5];
         Some(FaceHit {
             near: self.depth(entry_face, p),
@@ -368,19 +346,41 @@ impl CellFaces {
 }
 
 impl CellFaces {
-    /// Row `y`, pixels `from..to`, as runs `x0..x1` with one entry and one exit face each:
-    /// `f(x0, x1, entry_face, exit_face)`. The face choice only changes where an inner edge
-    /// splits the row, so it is settled once per run ([`CellFaces::hit_in_row`] at its first
-    /// pixel) — the same faces, hence the same depths, as pixel by pixel.
+    /// The entry and exit face holding pixel x of a prepared row (the face choice of
+    /// [`CellFaces::hit_in_row`], without the depths).
     #[inline]
-    pub fn spans(
-        &self,
-        row: &Row,
-        y: usize,
-        from: usize,
-        to: usize,
-        mut f: impl FnMut(usize, usize, usize, usize),
-    ) {
+    fn faces_in_row(&self, row: &Row, x: usize) -> Option<(u8, u8)> {
+        let holds = |f: u8| {
+            let face = &self.faces[f as usize];
+            (0..3).all(|k| {
+                if !face.inner[k] {
+                    return true;
+                }
+                let (e, against) = face.edge[k];
+                let e = e as usize;
+                let inside = (x >= row.split[e]) == row.rising[e];
+                inside != against
+            })
+        };
+        let pick = |list: &[u8]| -> Option<u8> {
+            let (&last, rest) = list.split_last()?;
+            Some(rest.iter().copied().find(|&f| holds(f)).unwrap_or(last))
+        };
+        let entry = pick(&self.entry[..self.entries as usize])?;
+        let exit = pick(&self.exit[..self.exits as usize])?;
+        Some((entry, exit))
+    }
+
+    /// Row `y`, pixels `from..to`, as runs `x0..x1` with one entry and one exit face each. The
+    /// face choice only changes where an inner edge splits the row, so it is settled once per
+    /// run (at its first pixel) — the same faces, hence the same depths, as pixel by pixel
+    /// ([`CellFaces::hit_in_row`]).
+    #[inline]
+    pub fn spans(&self, row: &Row, from: usize, to: usize) -> RowRuns {
+        let mut out = RowRuns {
+            runs: [Run::default(); 7],
+            count: 0,
+        };
         let mut x = from;
         while x < to {
             let mut next = to;
@@ -389,11 +389,63 @@ impl CellFaces {
                     next = row.split[e];
                 }
             }
-            if let Some(h) = self.hit_in_row(row, x, y) {
-                f(x, next, h.entry_face, h.exit_face);
+            if let Some((entry, exit)) = self.faces_in_row(row, x) {
+                out.runs[out.count] = Run {
+                    x0: x,
+                    x1: next,
+                    entry,
+                    exit,
+                };
+                out.count += 1;
             }
             x = next;
         }
+        out
+    }
+}
+
+/// Pixels `x0..x1` of a row with one entry and one exit face.
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Run {
+    pub x0: usize,
+    pub x1: usize,
+    pub entry: u8,
+    pub exit: u8,
+}
+
+/// A row's runs ([`CellFaces::spans`]): at most one more than the six cell edges that split it.
+#[derive(Debug, Clone, Copy)]
+pub struct RowRuns {
+    runs: [Run; 7],
+    count: usize,
+}
+
+impl RowRuns {
+    pub fn runs(&self) -> &[Run] {
+        &self.runs[..self.count]
+    }
+}
+
+/// A face's depth along one screen row ([`CellFaces::depth_row`]).
+#[derive(Debug, Clone, Copy)]
+pub struct DepthRow {
+    z0: f64,
+    gx: f64,
+    ax: f64,
+    dy: f64,
+    lo: f64,
+    hi: f64,
+    perspective: bool,
+}
+
+impl DepthRow {
+    /// The depth at pixel centre `px`: [`CellFaces::depth`]'s expression term by term.
+    #[inline(always)]
+    pub fn at(&self, px: f64) -> f64 {
+        let z = (self.z0 + self.gx * (px - self.ax) + self.dy)
+            .max(self.lo)
+            .min(self.hi);
+        if self.perspective { 1.0 / z } else { z }
     }
 }
 

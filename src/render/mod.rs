@@ -481,7 +481,7 @@ fn tile_range(f: &Frame, cell: usize, tile: usize, tx: usize, ty: usize) -> Opti
 /// Composites a cell's `(b, θ)` onto a pixel's state: back to front the intensity becomes
 /// `I·θ + b`; front to back the colour gains `T·b`. Either way the transparency `T` becomes `T·θ`.
 #[inline]
-fn composite(order: Order, a: &mut ([f64; 3], f64), (b, theta): ([f64; 3], f64)) {
+pub(crate) fn composite(order: Order, a: &mut ([f64; 3], f64), (b, theta): ([f64; 3], f64)) {
     match order {
         Order::BackToFront => {
             for ch in 0..3 {
@@ -625,34 +625,9 @@ fn render_tile<A: Approx>(
                     let Pixels::Direct(acc) = &mut pixels else {
                         unreachable!("span kernels composite directly")
                     };
-                    span_buf.clear();
-                    rasterize_convex_rows(&v[..count], rect, |y, from, to| {
-                        let row = cf.row(y, from, to);
-                        let py = y as f64 + 0.5;
-                        let first = (y - rect.y0) * tw;
-                        cf.spans(&row, y, from, to, |x0, x1, entry, exit| {
-                            span_buf.push_run(first + x0 - rect.x0, x0, x1, py, |x0, x1, out| {
-                                cf.depths(entry, py, x0, x1, &mut out.near);
-                                cf.depths(exit, py, x0, x1, &mut out.far);
-                            });
-                        });
-                    });
-                    if sc.count > 1 {
-                        span_buf.reset();
-                    }
-                    for piece in sc.pieces() {
-                        span::shade(piece, &mut span_buf);
-                    }
-                    let [r, g, b] = &span_buf.b;
-                    for (i, &slot) in span_buf.slot.iter().enumerate() {
-                        let a = &mut acc[slot as usize];
-                        if order == Order::FrontToBack && a.1 < EARLY_TERMINATION {
-                            continue;
-                        }
-                        fragments += 1;
-                        lane_fragments += 1;
-                        composite(order, a, ([r[i], g[i], b[i]], span_buf.theta[i]));
-                    }
+                    let drawn = span::draw(&sc, &v[..count], cf, rect, &mut span_buf, acc, order);
+                    fragments += drawn;
+                    lane_fragments += drawn;
                     continue;
                 }
             }

@@ -16,6 +16,9 @@
 //! depend on the processor.
 
 use super::cell::CellRays;
+use super::faces::{CellFaces, DepthRow};
+use super::raster::{Rect, rasterize_convex_rows};
+use super::{EARLY_TERMINATION, Order, composite};
 use crate::integrate::linear_lanes::{MAX_TERMS, moments, terms_for};
 
 /// Pixels per batch: one AVX-512 register of f64, two AVX2 registers.
@@ -120,9 +123,14 @@ pub struct Clip {
 }
 
 /// A cell's covered pixels (inputs) and their contributions (outputs), structure of arrays,
-/// reused from cell to cell.
+/// reused from cell to cell. The arrays only grow: the first [`SpanBuffer::len`] entries are
+/// this cell's, the rest up to a whole batch are stale values the kernel computes and ignores
+/// (no per-cell clearing or padding).
 #[derive(Debug, Default)]
 pub struct SpanBuffer {
+    n: usize,
+    /// The footprint's rows `[y, from, to]`, gathered before their pixels.
+    rows: Vec<[usize; 3]>,
     pub slot: Vec<u32>,
     pub x: Vec<f64>,
     pub y: Vec<f64>,
@@ -135,88 +143,274 @@ pub struct SpanBuffer {
 
 impl SpanBuffer {
     pub fn clear(&mut self) {
-        self.slot.clear();
-        self.x.clear();
-        self.y.clear();
-        self.near.clear();
-        self.far.clear();
+        self.n = 0;
+    }
+
+    /// Room for `more` pixels after the current ones, up to a whole batch.
+    #[inline]
+    fn reserve(&mut self, more: usize) {
+        let want = (self.n + more).div_ceil(LANES) * LANES;
+        if self.slot.len() < want {
+            let want = want.max(2 * self.slot.len());
+            self.slot.resize(want, 0);
+            for v in [
+                &mut self.x,
+                &mut self.y,
+                &mut self.near,
+                &mut self.far,
+                &mut self.theta,
+            ] {
+                v.resize(want, 0.0);
+            }
+            for v in &mut self.b {
+                v.resize(want, 0.0);
+            }
+        }
     }
 
     /// One pixel (the tile loop gathers whole runs with [`SpanBuffer::push_run`]).
     #[cfg(test)]
     fn push(&mut self, slot: usize, x: f64, y: f64, near: f64, far: f64) {
-        self.slot.push(slot as u32);
-        self.x.push(x);
-        self.y.push(y);
-        self.near.push(near);
-        self.far.push(far);
+        self.reserve(1);
+        let i = self.n;
+        self.slot[i] = slot as u32;
+        self.x[i] = x;
+        self.y[i] = y;
+        self.near[i] = near;
+        self.far[i] = far;
+        self.n += 1;
     }
 
-    /// Pixels `x0..x1` of the row at screen y = `py`, the first in tile slot `slot`;
-    /// `depths(x0, x1, self)` appends their entry and exit depths to `near` and `far`.
-    #[inline]
+    /// Pixels `x0..x1` of the row at screen y = `py`, the first in tile slot `slot`, with entry
+    /// and exit depths from the faces' rows `near` and `far`. One pass writes every array.
+    #[inline(always)]
     pub fn push_run(
         &mut self,
         slot: usize,
         x0: usize,
         x1: usize,
         py: f64,
-        depths: impl FnOnce(usize, usize, &mut SpanBuffer),
+        near: DepthRow,
+        far: DepthRow,
     ) {
-        let start = self.len();
-        self.slot.extend((slot..slot + (x1 - x0)).map(|s| s as u32));
-        self.x.extend((x0..x1).map(|x| x as f64 + 0.5));
-        self.y.extend(std::iter::repeat_n(py, x1 - x0));
-        depths(x0, x1, self);
-        // Rounding can put a face crossing ~1e-16 past the other one.
-        for (f, &n) in self.far[start..].iter_mut().zip(&self.near[start..]) {
-            *f = f.max(n);
+        let len = x1 - x0;
+        self.reserve(len);
+        let r = self.n..self.n + len;
+        let (slots, xs, ys) = (
+            &mut self.slot[r.clone()],
+            &mut self.x[r.clone()],
+            &mut self.y[r.clone()],
+        );
+        let (ns, fs) = (&mut self.near[r.clone()], &mut self.far[r]);
+        for k in 0..len {
+            let px = (x0 + k) as f64 + 0.5;
+            let n = near.at(px);
+            slots[k] = (slot + k) as u32;
+            xs[k] = px;
+            ys[k] = py;
+            ns[k] = n;
+            // Rounding can put a face crossing ~1e-16 past the other one.
+            fs[k] = far.at(px).max(n);
         }
+        self.n += len;
+    }
+
+    /// [`SpanBuffer::push_run`] where the entry or exit face is a sliver (its depth in
+    /// double-double, [`CellFaces::depth`]).
+    #[cold]
+    #[allow(clippy::too_many_arguments)]
+    pub fn push_run_slivers(
+        &mut self,
+        slot: usize,
+        x0: usize,
+        x1: usize,
+        py: f64,
+        faces: &CellFaces,
+        entry: usize,
+        exit: usize,
+    ) {
+        let len = x1 - x0;
+        self.reserve(len);
+        for k in 0..len {
+            let (i, px) = (self.n + k, (x0 + k) as f64 + 0.5);
+            let n = faces.depth(entry, [px, py]);
+            self.slot[i] = (slot + k) as u32;
+            self.x[i] = px;
+            self.y[i] = py;
+            self.near[i] = n;
+            self.far[i] = faces.depth(exit, [px, py]).max(n);
+        }
+        self.n += len;
     }
 
     /// Empty contributions (b = 0, θ = 1) for every pixel, to composite pieces into.
     pub fn reset(&mut self) {
-        let padded = self.len().div_ceil(LANES) * LANES;
+        let padded = self.n.div_ceil(LANES) * LANES;
         for v in self.b.iter_mut() {
-            v.clear();
-            v.resize(padded, 0.0);
+            v[..padded].fill(0.0);
         }
-        self.theta.clear();
-        self.theta.resize(padded, 1.0);
+        self.theta[..padded].fill(1.0);
     }
 
     pub fn len(&self) -> usize {
-        self.slot.len()
+        self.n
     }
 
     pub fn is_empty(&self) -> bool {
-        self.slot.is_empty()
+        self.n == 0
     }
 }
 
 /// Integrates every pixel of `buf` for `cell`: fills `buf.b` and `buf.theta` — or, for a cell
 /// with a [`Clip`], composites the piece's contribution behind what they hold (so pieces are
 /// shaded from the nearest to the farthest along the rays; start from [`SpanBuffer::reset`]).
+#[cfg(test)]
 pub fn shade(cell: &SpanCell, buf: &mut SpanBuffer) {
     shade_with(kernel(), cell, buf);
 }
 
 /// [`shade`] with the kernel compiled for `k` (the baseline one where the processor lacks
 /// `k`'s features).
+#[cfg(test)]
 fn shade_with(k: Kernel, cell: &SpanCell, buf: &mut SpanBuffer) {
-    let n = buf.len();
-    // Pad the inputs to whole batches with empty segments (their results are ignored).
-    let padded = n.div_ceil(LANES) * LANES;
-    for v in [&mut buf.x, &mut buf.y, &mut buf.near, &mut buf.far] {
-        v.resize(padded, 0.0);
-    }
-    for v in buf.b.iter_mut() {
-        v.resize(padded, 0.0);
-    }
-    buf.theta.resize(padded, 1.0);
     run_on(k, cell, buf);
-    for v in [&mut buf.x, &mut buf.y, &mut buf.near, &mut buf.far] {
-        v.truncate(n);
+}
+
+/// Draws a cell through the kernel: gathers the pixels of its footprint `hull` in `rect` (the
+/// tile) with their entry and exit depths from `faces`, integrates every piece, and composites
+/// the results into the tile's pixels `acc` (row-major in `rect`) in `order`. Returns the number
+/// of pixels composited. Gathering and compositing are compiled with the kernel, for its width.
+pub fn draw(
+    pieces: &SpanPieces,
+    hull: &[[f64; 2]],
+    faces: &CellFaces,
+    rect: Rect,
+    buf: &mut SpanBuffer,
+    acc: &mut [([f64; 3], f64)],
+    order: Order,
+) -> u64 {
+    draw_with(kernel(), pieces, hull, faces, rect, buf, acc, order)
+}
+
+/// [`draw`] with the kernel compiled for `k` (the baseline one where the processor lacks
+/// `k`'s features).
+#[allow(clippy::too_many_arguments)]
+fn draw_with(
+    k: Kernel,
+    pieces: &SpanPieces,
+    hull: &[[f64; 2]],
+    faces: &CellFaces,
+    rect: Rect,
+    buf: &mut SpanBuffer,
+    acc: &mut [([f64; 3], f64)],
+    order: Order,
+) -> u64 {
+    let d = Draw {
+        pieces,
+        hull,
+        faces,
+        rect,
+        order,
+    };
+    match k {
+        // SAFETY (both): the processor reported the features the function is compiled for.
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx2 if supported(k) => unsafe { draw_avx2(&d, buf, acc) },
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx512 if supported(k) => unsafe { draw_avx512(&d, buf, acc) },
+        _ => draw_body::<LANES>(&d, buf, acc),
+    }
+}
+
+/// [`draw`]'s arguments.
+struct Draw<'a> {
+    pieces: &'a SpanPieces,
+    hull: &'a [[f64; 2]],
+    faces: &'a CellFaces,
+    rect: Rect,
+    order: Order,
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn draw_avx2(d: &Draw, buf: &mut SpanBuffer, acc: &mut [([f64; 3], f64)]) -> u64 {
+    draw_body::<16>(d, buf, acc)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn draw_avx512(d: &Draw, buf: &mut SpanBuffer, acc: &mut [([f64; 3], f64)]) -> u64 {
+    draw_body::<32>(d, buf, acc)
+}
+
+#[inline(always)]
+fn draw_body<const WIDE: usize>(
+    d: &Draw,
+    buf: &mut SpanBuffer,
+    acc: &mut [([f64; 3], f64)],
+) -> u64 {
+    let (cf, rect) = (d.faces, d.rect);
+    let tw = rect.x1 - rect.x0;
+    buf.clear();
+    // The rows first, then their pixels in this function's own loop: a closure would be
+    // compiled for the baseline target, not for the kernel's.
+    buf.rows.clear();
+    rasterize_convex_rows(d.hull, rect, |y, from, to| buf.rows.push([y, from, to]));
+    for i in 0..buf.rows.len() {
+        let [y, from, to] = buf.rows[i];
+        let row = cf.row(y, from, to);
+        let py = y as f64 + 0.5;
+        let first = (y - rect.y0) * tw;
+        for run in cf.spans(&row, from, to).runs() {
+            let (entry, exit) = (run.entry as usize, run.exit as usize);
+            match (cf.depth_row(entry, py), cf.depth_row(exit, py)) {
+                (Some(n), Some(f)) => {
+                    buf.push_run(first + run.x0 - rect.x0, run.x0, run.x1, py, n, f)
+                }
+                _ => buf.push_run_slivers(
+                    first + run.x0 - rect.x0,
+                    run.x0,
+                    run.x1,
+                    py,
+                    cf,
+                    entry,
+                    exit,
+                ),
+            }
+        }
+    }
+    if d.pieces.count > 1 {
+        buf.reset();
+    }
+    for piece in d.pieces.pieces() {
+        match (piece.clip.is_some(), piece.rays.is_some()) {
+            (false, false) => kernel_body::<WIDE, false, false>(piece, buf),
+            (true, false) => kernel_body::<WIDE, true, false>(piece, buf),
+            (false, true) => kernel_body::<WIDE, false, true>(piece, buf),
+            (true, true) => kernel_body::<WIDE, true, true>(piece, buf),
+        }
+    }
+    let n = buf.len();
+    let [r, g, b] = &buf.b;
+    let (r, g, b, theta) = (&r[..n], &g[..n], &b[..n], &buf.theta[..n]);
+    let slots = &buf.slot[..n];
+    if d.order == Order::BackToFront {
+        for i in 0..n {
+            let a = &mut acc[slots[i] as usize];
+            composite(d.order, a, ([r[i], g[i], b[i]], theta[i]));
+        }
+        n as u64
+    } else {
+        let mut drawn = 0;
+        for i in 0..n {
+            let a = &mut acc[slots[i] as usize];
+            if a.1 < EARLY_TERMINATION {
+                continue;
+            }
+            drawn += 1;
+            composite(d.order, a, ([r[i], g[i], b[i]], theta[i]));
+        }
+        drawn
     }
 }
 
@@ -273,6 +467,7 @@ pub fn supported(k: Kernel) -> bool {
 
 /// Runs the kernel compiled for `k`, or the baseline one where the processor lacks `k`'s
 /// features.
+#[cfg(test)]
 fn run_on(k: Kernel, cell: &SpanCell, buf: &mut SpanBuffer) {
     match k {
         // SAFETY (both): the processor reported the features the function is compiled for.
@@ -295,120 +490,138 @@ fn run_on(k: Kernel, cell: &SpanCell, buf: &mut SpanBuffer) {
             }
         },
         _ => match (cell.clip.is_some(), cell.rays.is_some()) {
-            (false, false) => kernel_body::<false, false>(cell, buf),
-            (true, false) => kernel_body::<true, false>(cell, buf),
-            (false, true) => kernel_body::<false, true>(cell, buf),
-            (true, true) => kernel_body::<true, true>(cell, buf),
+            (false, false) => kernel_body::<LANES, false, false>(cell, buf),
+            (true, false) => kernel_body::<LANES, true, false>(cell, buf),
+            (false, true) => kernel_body::<LANES, false, true>(cell, buf),
+            (true, true) => kernel_body::<LANES, true, true>(cell, buf),
         },
     }
 }
 
 #[cfg(target_arch = "x86_64")]
+#[cfg(test)]
 #[target_feature(enable = "avx2")]
 fn kernel_avx2<const CLIP: bool, const PERSP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
-    kernel_body::<CLIP, PERSP>(cell, buf)
+    kernel_body::<16, CLIP, PERSP>(cell, buf)
 }
 
 #[cfg(target_arch = "x86_64")]
+#[cfg(test)]
 #[target_feature(enable = "avx512f")]
 fn kernel_avx512<const CLIP: bool, const PERSP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
-    kernel_body::<CLIP, PERSP>(cell, buf)
+    kernel_body::<32, CLIP, PERSP>(cell, buf)
 }
 
-/// The kernel: whole batches of [`LANES`] pixels (the buffers are padded). With `CLIP`, only
-/// the part of each segment in the clip's range, composited behind the buffer's contents; with
-/// `PERSP`, τ-coefficients that vary with x and y and segment lengths `Δτ·|d|`.
+/// The kernel: the (padded) buffer in batches of `WIDE` pixels, the rest in batches of
+/// [`LANES`]. A batch's series is one chain of dependent multiplications per lane; several
+/// registers of lanes side by side keep the processor's pipelines full instead of waiting on
+/// that chain (measured: the 8-lane AVX-512 kernel spent most of its time there). Lanes are
+/// independent, so the batch width changes no bit.
 #[inline(always)]
-fn kernel_body<const CLIP: bool, const PERSP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
+fn kernel_body<const WIDE: usize, const CLIP: bool, const PERSP: bool>(
+    cell: &SpanCell,
+    buf: &mut SpanBuffer,
+) {
+    // Whole batches: the arrays hold at least this many (stale values past `len`).
+    let n = buf.len().div_ceil(LANES) * LANES;
+    let mut i = 0;
+    while i + WIDE <= n {
+        batch::<WIDE, CLIP, PERSP>(cell, buf, i);
+        i += WIDE;
+    }
+    if WIDE > 16 && i + 16 <= n {
+        batch::<16, CLIP, PERSP>(cell, buf, i);
+        i += 16;
+    }
+    while i < n {
+        batch::<LANES, CLIP, PERSP>(cell, buf, i);
+        i += LANES;
+    }
+}
+
+/// Pixels `i..i + L` of the buffer. With `CLIP`, only the part of each segment in the clip's
+/// range, composited behind the buffer's contents; with `PERSP`, τ-coefficients that vary with x
+/// and y and segment lengths `Δτ·|d|`.
+#[inline(always)]
+fn batch<const L: usize, const CLIP: bool, const PERSP: bool>(
+    cell: &SpanCell,
+    buf: &mut SpanBuffer,
+    i: usize,
+) {
     let terms = cell.terms.min(MAX_TERMS);
     let q = &cell.q;
-    let SpanBuffer {
-        x,
-        y,
-        near,
-        far,
-        b,
-        theta,
-        ..
-    } = buf;
-    let [br, bg, bb] = b;
-    let chunks = x
-        .chunks_exact(LANES)
-        .zip(y.chunks_exact(LANES))
-        .zip(near.chunks_exact(LANES))
-        .zip(far.chunks_exact(LANES))
-        .zip(br.chunks_exact_mut(LANES))
-        .zip(bg.chunks_exact_mut(LANES))
-        .zip(bb.chunks_exact_mut(LANES))
-        .zip(theta.chunks_exact_mut(LANES));
-    for (((((((x, y), near), far), or), og), ob), ot) in chunks {
-        let lane = |s: &[f64]| -> [f64; LANES] { std::array::from_fn(|l| s[l]) };
-        let (x, y, mut near, mut far) = (lane(x), lane(y), lane(near), lane(far));
-        if CLIP {
-            let clip = cell.clip.unwrap_or(Clip {
-                s: [0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
-                lo: f64::NEG_INFINITY,
-                hi: f64::INFINITY,
-            });
-            let s = clip.s;
-            for l in 0..LANES {
-                // The depths where s reaches lo and hi (±∞ for the outer pieces).
-                let base = s[0] + s[1] * x[l] + s[2] * y[l];
-                let rate = if PERSP {
-                    s[3] + s[4] * x[l] + s[5] * y[l]
-                } else {
-                    s[3]
-                };
-                let ta = (clip.lo - base) / rate;
-                let tb = (clip.hi - base) / rate;
-                let n = near[l].max(ta.min(tb));
-                let f = far[l].min(ta.max(tb));
-                near[l] = n;
-                far[l] = f.max(n);
-            }
+    let lane = |s: &[f64]| -> [f64; L] {
+        let mut a = [0.0; L];
+        a.copy_from_slice(&s[i..i + L]);
+        a
+    };
+    let (x, y, mut near, mut far) = (lane(&buf.x), lane(&buf.y), lane(&buf.near), lane(&buf.far));
+    if CLIP {
+        let clip = cell.clip.unwrap_or(Clip {
+            s: [0.0, 0.0, 0.0, 1.0, 0.0, 0.0],
+            lo: f64::NEG_INFINITY,
+            hi: f64::INFINITY,
+        });
+        let s = clip.s;
+        for l in 0..L {
+            // The depths where s reaches lo and hi (±∞ for the outer pieces).
+            let base = s[0] + s[1] * x[l] + s[2] * y[l];
+            let rate = if PERSP {
+                s[3] + s[4] * x[l] + s[5] * y[l]
+            } else {
+                s[3]
+            };
+            let ta = (clip.lo - base) / rate;
+            let tb = (clip.hi - base) / rate;
+            let n = near[l].max(ta.min(tb));
+            let f = far[l].min(ta.max(tb));
+            near[l] = n;
+            far[l] = f.max(n);
         }
-        // The four quantities at both ends.
-        let mut at_far = [[0.0; LANES]; 4];
-        let mut at_near = [[0.0; LANES]; 4];
-        for k in 0..4 {
-            for l in 0..LANES {
-                let base = q[k][0] + q[k][1] * x[l] + q[k][2] * y[l];
-                let rate = if PERSP {
-                    q[k][3] + q[k][4] * x[l] + q[k][5] * y[l]
-                } else {
-                    q[k][3]
-                };
-                at_far[k][l] = base + rate * far[l];
-                at_near[k][l] = base + rate * near[l];
-            }
+    }
+    // The four quantities at both ends.
+    let mut at_far = [[0.0; L]; 4];
+    let mut at_near = [[0.0; L]; 4];
+    for k in 0..4 {
+        for l in 0..L {
+            let base = q[k][0] + q[k][1] * x[l] + q[k][2] * y[l];
+            let rate = if PERSP {
+                q[k][3] + q[k][4] * x[l] + q[k][5] * y[l]
+            } else {
+                q[k][3]
+            };
+            at_far[k][l] = base + rate * far[l];
+            at_near[k][l] = base + rate * near[l];
         }
-        let mut len = [0.0; LANES];
-        let mut c = [0.0; LANES];
-        let mut d = [0.0; LANES];
-        for l in 0..LANES {
-            len[l] = far[l] - near[l];
-            if PERSP {
-                let d = cell.rays.unwrap_or([0.0; 4]);
-                let (dx, dy) = (d[0] + d[1] * x[l], d[2] + d[3] * y[l]);
-                len[l] *= (dx * dx + dy * dy + 1.0).sqrt();
-            }
-            // Negative absorption (unphysical) counts as none, as in the scalar rule.
-            let a = (at_far[3][l] * len[l]).max(0.0);
-            c[l] = (at_near[3][l] * len[l]).max(0.0);
-            d[l] = a - c[l];
+    }
+    let mut len = [0.0; L];
+    let mut c = [0.0; L];
+    let mut d = [0.0; L];
+    for l in 0..L {
+        len[l] = far[l] - near[l];
+        if PERSP {
+            let d = cell.rays.unwrap_or([0.0; 4]);
+            let (dx, dy) = (d[0] + d[1] * x[l], d[2] + d[3] * y[l]);
+            len[l] *= (dx * dx + dy * dy + 1.0).sqrt();
         }
-        let (j0, j1, th) = moments(&c, &d, terms);
-        for (k, out) in [or, og, ob].into_iter().enumerate() {
-            for l in 0..LANES {
-                let (n, f) = (at_near[k][l], at_far[k][l]);
-                let b = cell.brightness * (len[l] * (n * j0[l] + (f - n) * j1[l]));
-                // Behind the nearer pieces already there: their transparency dims this one.
-                out[l] = if CLIP { out[l] + ot[l] * b } else { b };
-            }
+        // Negative absorption (unphysical) counts as none, as in the scalar rule.
+        let a = (at_far[3][l] * len[l]).max(0.0);
+        c[l] = (at_near[3][l] * len[l]).max(0.0);
+        d[l] = a - c[l];
+    }
+    let (j0, j1, th) = moments(&c, &d, terms);
+    let ot = &mut buf.theta[i..i + L];
+    for (k, out) in buf.b.iter_mut().enumerate() {
+        let out = &mut out[i..i + L];
+        for l in 0..L {
+            let (n, f) = (at_near[k][l], at_far[k][l]);
+            let b = cell.brightness * (len[l] * (n * j0[l] + (f - n) * j1[l]));
+            // Behind the nearer pieces already there: their transparency dims this one.
+            out[l] = if CLIP { out[l] + ot[l] * b } else { b };
         }
-        for l in 0..LANES {
-            ot[l] = if CLIP { ot[l] * th[l] } else { th[l] };
-        }
+    }
+    for l in 0..L {
+        ot[l] = if CLIP { ot[l] * th[l] } else { th[l] };
     }
 }
 
@@ -476,16 +689,16 @@ mod tests {
     #[test]
     fn every_compiled_kernel_gives_the_same_bits() {
         let c = cell();
-        let mut reference = buffer(19);
+        let mut reference = buffer(77);
         shade(&c, &mut reference);
         #[cfg(target_arch = "x86_64")]
         let kinds = [Kernel::Baseline, Kernel::Avx2, Kernel::Avx512];
         #[cfg(not(target_arch = "x86_64"))]
         let kinds = [Kernel::Baseline];
         for k in kinds.into_iter().filter(|&k| supported(k)) {
-            let mut buf = buffer(19);
+            let mut buf = buffer(77);
             shade_with(k, &c, &mut buf);
-            for i in 0..19 {
+            for i in 0..77 {
                 for ch in 0..3 {
                     assert_eq!(
                         buf.b[ch][i].to_bits(),
@@ -498,6 +711,67 @@ mod tests {
                     reference.theta[i].to_bits(),
                     "{k:?}"
                 );
+            }
+        }
+    }
+
+    /// The whole draw (gathering, kernel, compositing) compiled for each kernel: the same bits,
+    /// for one piece and for a cell cut into two pieces by a clip.
+    #[test]
+    fn every_compiled_draw_gives_the_same_bits() {
+        use crate::render::faces::entry_sign;
+        let screen = [[3.2, 4.1], [40.7, 9.3], [20.2, 37.9], [18.4, 15.6]];
+        let depth = [1.0, 1.3, 0.8, 2.1];
+        let faces = CellFaces::new([0, 1, 2, 3], &screen, &depth, entry_sign(false), false);
+        let hull = &screen[..3];
+        let rect = Rect {
+            x0: 2,
+            y0: 3,
+            x1: 45,
+            y1: 41,
+        };
+        let one = SpanPieces::one(cell());
+        let mut two = SpanPieces::one(cell());
+        let clip = |lo, hi| {
+            Some(Clip {
+                s: [0.0, 0.01, 0.0, 1.0, 0.0, 0.0],
+                lo,
+                hi,
+            })
+        };
+        two.cells[0].clip = clip(f64::NEG_INFINITY, 1.2);
+        two.cells[1].clip = clip(1.2, f64::INFINITY);
+        two.count = 2;
+        #[cfg(target_arch = "x86_64")]
+        let kinds = [Kernel::Baseline, Kernel::Avx2, Kernel::Avx512];
+        #[cfg(not(target_arch = "x86_64"))]
+        let kinds = [Kernel::Baseline];
+        for pieces in [&one, &two] {
+            let mut reference = None;
+            for k in kinds.into_iter().filter(|&k| supported(k)) {
+                let n = (rect.x1 - rect.x0) * (rect.y1 - rect.y0);
+                let mut acc = vec![([0.1, 0.2, 0.3], 1.0); n];
+                let mut buf = SpanBuffer::default();
+                let drawn = draw_with(
+                    k,
+                    pieces,
+                    hull,
+                    &faces,
+                    rect,
+                    &mut buf,
+                    &mut acc,
+                    Order::BackToFront,
+                );
+                assert!(drawn > 300, "{drawn}");
+                let bits: Vec<u64> = acc
+                    .iter()
+                    .flat_map(|(c, t)| [c[0], c[1], c[2], *t])
+                    .map(f64::to_bits)
+                    .collect();
+                match &reference {
+                    None => reference = Some(bits),
+                    Some(r) => assert!(r == &bits, "{k:?}"),
+                }
             }
         }
     }
