@@ -55,6 +55,19 @@ pub fn orient_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
     (o > 0.0) as i8 - (o < 0.0) as i8
 }
 
+/// The cell edge (index into [`EDGE_NODES`]) between local nodes u and v, either way round.
+const EDGE_OF: [[u8; 4]; 4] = {
+    let mut t = [[0u8; 4]; 4];
+    let mut e = 0;
+    while e < 6 {
+        let [i, j] = EDGE_NODES[e];
+        t[i][j] = e as u8;
+        t[j][i] = e as u8;
+        e += 1;
+    }
+    t
+};
+
 /// A face is drawn as a surface (`test`) only if twice its projected area is at least this
 /// fraction of its longest edge squared: below, it is seen edge-on up to rounding.
 pub const EDGE_ON: f64 = 1e-9;
@@ -138,8 +151,16 @@ impl CellFaces {
             } else {
                 [local[0] as u8, local[2] as u8, local[1] as u8]
             };
+            // The canonical order (ascending node number), and whether reaching it from
+            // `local` takes an odd number of swaps.
             let mut canon = local;
-            canon.sort_by_key(|&k| ids[k]);
+            let mut odd = false;
+            for (i, j) in [(0, 1), (1, 2), (0, 1)] {
+                if ids[canon[j]] < ids[canon[i]] {
+                    canon.swap(i, j);
+                    odd = !odd;
+                }
+            }
             face.s = canon.map(|k| screen[k]);
             face.z = canon.map(|k| {
                 if perspective {
@@ -149,7 +170,8 @@ impl CellFaces {
                 }
             });
             let [a, b, c] = face.s;
-            face.orient = orient_sign(a, b, c);
+            // The exact orientation changes sign with every swap of two points.
+            face.orient = if odd { -o } else { o };
             // Twice the area against the square of the longest edge: the sine of the face's
             // sharpest angle, roughly — how far from edge-on it is seen.
             let area = ((a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0])).abs();
@@ -176,16 +198,11 @@ impl CellFaces {
         for f in 0..4 {
             for k in 0..3 {
                 let (u, v) = (faces[f].pos[k] as usize, faces[f].pos[(k + 1) % 3] as usize);
-                let other = (0..4).find(|&g| g != f && g != u && g != v).unwrap_or(f);
                 // Faces are numbered by their opposite node: the faces holding edge u–v are the
-                // ones opposite the two other nodes; `f` is one of them.
+                // ones opposite the two other nodes; `f` is one of them (the nodes sum to 6).
+                let other = 6 - f - u - v;
                 faces[f].inner[k] = kind[f] != 0 && kind[other] == kind[f];
-                let (lo, hi) = (u.min(v), u.max(v));
-                let e = EDGE_NODES
-                    .iter()
-                    .position(|&[i, j]| i == lo && j == hi)
-                    .unwrap_or(0);
-                faces[f].edge[k] = (e as u8, u > v);
+                faces[f].edge[k] = (EDGE_OF[u][v], u > v);
             }
         }
         let mut out = CellFaces {
@@ -442,10 +459,26 @@ impl DepthRow {
     /// The depth at pixel centre `px`: [`CellFaces::depth`]'s expression term by term.
     #[inline(always)]
     pub fn at(&self, px: f64) -> f64 {
+        if self.perspective {
+            self.at_view::<true>(px)
+        } else {
+            self.at_view::<false>(px)
+        }
+    }
+
+    /// [`DepthRow::at`] for a row known to be perspective (`PERSP`) or not, so that a loop over
+    /// pixels has no branch (or masked division) in it.
+    #[inline(always)]
+    pub fn at_view<const PERSP: bool>(&self, px: f64) -> f64 {
+        debug_assert_eq!(PERSP, self.perspective);
         let z = (self.z0 + self.gx * (px - self.ax) + self.dy)
             .max(self.lo)
             .min(self.hi);
-        if self.perspective { 1.0 / z } else { z }
+        if PERSP { 1.0 / z } else { z }
+    }
+
+    pub fn perspective(&self) -> bool {
+        self.perspective
     }
 }
 

@@ -193,24 +193,52 @@ impl SpanBuffer {
         near: DepthRow,
         far: DepthRow,
     ) {
+        if near.perspective() {
+            self.push_run_view::<true>(slot, x0, x1, py, near, far)
+        } else {
+            self.push_run_view::<false>(slot, x0, x1, py, near, far)
+        }
+    }
+
+    #[inline(always)]
+    fn push_run_view<const PERSP: bool>(
+        &mut self,
+        slot: usize,
+        x0: usize,
+        x1: usize,
+        py: f64,
+        near: DepthRow,
+        far: DepthRow,
+    ) {
         let len = x1 - x0;
-        self.reserve(len);
-        let r = self.n..self.n + len;
-        let (slots, xs, ys) = (
-            &mut self.slot[r.clone()],
-            &mut self.x[r.clone()],
-            &mut self.y[r.clone()],
-        );
-        let (ns, fs) = (&mut self.near[r.clone()], &mut self.far[r]);
-        for k in 0..len {
-            let px = (x0 + k) as f64 + 0.5;
-            let n = near.at(px);
-            slots[k] = (slot + k) as u32;
-            xs[k] = px;
-            ys[k] = py;
-            ns[k] = n;
-            // Rounding can put a face crossing ~1e-16 past the other one.
-            fs[k] = far.at(px).max(n);
+        // Whole batches of eight: the writes past the run are overwritten by the next run or
+        // lie beyond `len` (stale lanes), and fixed-length loops become vector instructions.
+        self.reserve(len + LANES);
+        let px0 = x0 as f64 + 0.5;
+        let mut k = 0;
+        while k < len {
+            let i = self.n + k;
+            let r = i..i + LANES;
+            let slots: &mut [u32; LANES] =
+                (&mut self.slot[i..i + LANES]).try_into().expect("reserved");
+            let mut xs = [0.0; LANES];
+            let mut ns = [0.0; LANES];
+            let mut fs = [0.0; LANES];
+            for l in 0..LANES {
+                // Integers and halves: the same value as `(x0 + k + l) as f64 + 0.5`.
+                let px = (px0 + k as f64) + l as f64;
+                let n = near.at_view::<PERSP>(px);
+                slots[l] = (slot + k + l) as u32;
+                xs[l] = px;
+                ns[l] = n;
+                // Rounding can put a face crossing ~1e-16 past the other one.
+                fs[l] = far.at_view::<PERSP>(px).max(n);
+            }
+            self.x[r.clone()].copy_from_slice(&xs);
+            self.y[r.clone()].fill(py);
+            self.near[r.clone()].copy_from_slice(&ns);
+            self.far[r].copy_from_slice(&fs);
+            k += LANES;
         }
         self.n += len;
     }
