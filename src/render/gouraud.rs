@@ -13,6 +13,15 @@
 use super::footprint::Footprint;
 use super::project::THICK;
 
+/// A pixel's contribution `(b, θ)` from the interpolated `[θ, η̄ (RGB)]`: the colour weighted by
+/// the opacity `1 − θ` and the brightness (`interpolateColor`). One definition for the per-pixel
+/// path and the lanes ([`crate::render::span::draw_fan`]).
+#[inline(always)]
+pub fn shade(brightness: f64, v: [f64; 4]) -> ([f64; 3], f64) {
+    let (theta, k) = (v[0], brightness * (1.0 - v[0]));
+    ([v[1] * k, v[2] * k, v[3] * k], theta)
+}
+
 /// An affine function of the screen position.
 #[derive(Debug, Clone, Copy, Default)]
 struct Plane {
@@ -104,6 +113,34 @@ impl Fan {
             fan.count += 1;
         }
         (fan.count > 0).then_some(fan)
+    }
+
+    /// [`Fan::at`] for `L` pixel centres at once: every sector's planes are evaluated and the
+    /// winner selected per lane with the same comparisons, so each lane gets [`Fan::at`]'s bits
+    /// and the loop has no per-lane branch or table lookup (it becomes vector selects).
+    #[inline(always)]
+    pub fn at_lanes<const L: usize>(&self, x: &[f64; L], y: &[f64; L]) -> [[f64; L]; 4] {
+        // The coefficients as plain locals first: the lane loop then only broadcasts them.
+        let planes: [[Plane; 5]; 4] = std::array::from_fn(|m| {
+            let s = &self.sectors[m];
+            [s.thick, s.values[0], s.values[1], s.values[2], s.values[3]]
+        });
+        let mut out = [[0.0; L]; 4];
+        for l in 0..L {
+            let (x, y) = (x[l], y[l]);
+            let at = |m: usize, k: usize| planes[m][k].at(x, y);
+            let first = at(1, 0) < at(0, 0);
+            let second = at(3, 0) < at(2, 0);
+            let la = if first { at(1, 0) } else { at(0, 0) };
+            let lb = if second { at(3, 0) } else { at(2, 0) };
+            let pick_b = lb < la;
+            for (k, o) in out.iter_mut().enumerate() {
+                let va = if first { at(1, k + 1) } else { at(0, k + 1) };
+                let vb = if second { at(3, k + 1) } else { at(2, k + 1) };
+                o[l] = if pick_b { vb } else { va };
+            }
+        }
+        out
     }
 
     /// The interpolated value at the pixel centre `(x, y)` inside the outline.

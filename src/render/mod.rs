@@ -641,6 +641,22 @@ fn render_tile<A: Approx>(
                     .fan_values(&c)
                     .and_then(|values| Fan::new(&fp, &values))
                 {
+                    if let (Some(brightness), true, Pixels::Direct(acc)) =
+                        (method.gouraud_brightness(), f.span_kernels, &mut pixels)
+                    {
+                        let drawn = span::draw_fan(
+                            &fan,
+                            brightness,
+                            &v[..count],
+                            rect,
+                            &mut span_buf,
+                            acc,
+                            order,
+                        );
+                        fragments += drawn;
+                        lane_fragments += drawn;
+                        continue;
+                    }
                     rasterize_convex(&v[..count], rect, |x, y| {
                         let slot = (y - rect.y0) * tw + (x - rect.x0);
                         let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);

@@ -17,6 +17,7 @@
 
 use super::cell::CellRays;
 use super::faces::{CellFaces, DepthRow};
+use super::gouraud::{self, Fan};
 use super::raster::{Rect, rasterize_convex_rows};
 use super::{EARLY_TERMINATION, Order, composite};
 use crate::integrate::linear_lanes::{MAX_TERMS, moments, terms_for};
@@ -243,6 +244,27 @@ impl SpanBuffer {
         self.n += len;
     }
 
+    /// Pixels `x0..x1` of the row at screen y = `py`, the first in tile slot `slot`, without
+    /// depths (screen-space shading needs none).
+    #[inline(always)]
+    fn push_pixels(&mut self, slot: usize, x0: usize, x1: usize, py: f64) {
+        let len = x1 - x0;
+        self.reserve(len + LANES);
+        let px0 = x0 as f64 + 0.5;
+        let mut k = 0;
+        while k < len {
+            let i = self.n + k;
+            for l in 0..LANES {
+                self.slot[i + l] = (slot + k + l) as u32;
+                // Integers and halves: the same value as `(x0 + k + l) as f64 + 0.5`.
+                self.x[i + l] = (px0 + k as f64) + l as f64;
+                self.y[i + l] = py;
+            }
+            k += LANES;
+        }
+        self.n += len;
+    }
+
     /// [`SpanBuffer::push_run`] where the entry or exit face is a sliver (its depth in
     /// double-double, [`CellFaces::depth`]).
     #[cold]
@@ -418,14 +440,20 @@ fn draw_body<const WIDE: usize>(
             (true, true) => kernel_body::<WIDE, true, true>(piece, buf),
         }
     }
+    composite_all(buf, acc, d.order)
+}
+
+/// Composites every pixel of `buf` (after shading) into the tile's pixels; returns how many.
+#[inline(always)]
+fn composite_all(buf: &SpanBuffer, acc: &mut [([f64; 3], f64)], order: Order) -> u64 {
     let n = buf.len();
     let [r, g, b] = &buf.b;
     let (r, g, b, theta) = (&r[..n], &g[..n], &b[..n], &buf.theta[..n]);
     let slots = &buf.slot[..n];
-    if d.order == Order::BackToFront {
+    if order == Order::BackToFront {
         for i in 0..n {
             let a = &mut acc[slots[i] as usize];
-            composite(d.order, a, ([r[i], g[i], b[i]], theta[i]));
+            composite(order, a, ([r[i], g[i], b[i]], theta[i]));
         }
         n as u64
     } else {
@@ -436,10 +464,117 @@ fn draw_body<const WIDE: usize>(
                 continue;
             }
             drawn += 1;
-            composite(d.order, a, ([r[i], g[i], b[i]], theta[i]));
+            composite(order, a, ([r[i], g[i], b[i]], theta[i]));
         }
         drawn
     }
+}
+
+/// Draws a cell shaded in screen space (`interpolateColor`): the Gouraud values of `fan` over
+/// the footprint `hull` in `rect`, as [`super::gouraud::shade`] with `brightness`, composited
+/// into `acc` in `order`, in lanes. The same bits as pixel by pixel ([`Fan::at_lanes`]).
+/// Returns the number of pixels composited.
+pub fn draw_fan(
+    fan: &Fan,
+    brightness: f64,
+    hull: &[[f64; 2]],
+    rect: Rect,
+    buf: &mut SpanBuffer,
+    acc: &mut [([f64; 3], f64)],
+    order: Order,
+) -> u64 {
+    draw_fan_with(kernel(), fan, brightness, hull, rect, buf, acc, order)
+}
+
+/// [`draw_fan`] compiled for `k` (the baseline where the processor lacks `k`'s features).
+#[allow(clippy::too_many_arguments)]
+fn draw_fan_with(
+    k: Kernel,
+    fan: &Fan,
+    brightness: f64,
+    hull: &[[f64; 2]],
+    rect: Rect,
+    buf: &mut SpanBuffer,
+    acc: &mut [([f64; 3], f64)],
+    order: Order,
+) -> u64 {
+    let d = FanDraw {
+        fan,
+        brightness,
+        hull,
+        rect,
+        order,
+    };
+    match k {
+        // SAFETY (both): the processor reported the features the function is compiled for.
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx2 if supported(k) => unsafe { draw_fan_avx2(&d, buf, acc) },
+        #[cfg(target_arch = "x86_64")]
+        Kernel::Avx512 if supported(k) => unsafe { draw_fan_avx512(&d, buf, acc) },
+        _ => draw_fan_body::<LANES>(&d, buf, acc),
+    }
+}
+
+/// [`draw_fan`]'s arguments.
+struct FanDraw<'a> {
+    fan: &'a Fan,
+    brightness: f64,
+    hull: &'a [[f64; 2]],
+    rect: Rect,
+    order: Order,
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2")]
+fn draw_fan_avx2(d: &FanDraw, buf: &mut SpanBuffer, acc: &mut [([f64; 3], f64)]) -> u64 {
+    draw_fan_body::<LANES>(d, buf, acc)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn draw_fan_avx512(d: &FanDraw, buf: &mut SpanBuffer, acc: &mut [([f64; 3], f64)]) -> u64 {
+    draw_fan_body::<LANES>(d, buf, acc)
+}
+
+#[inline(always)]
+fn draw_fan_body<const L: usize>(
+    d: &FanDraw,
+    buf: &mut SpanBuffer,
+    acc: &mut [([f64; 3], f64)],
+) -> u64 {
+    let rect = d.rect;
+    let tw = rect.x1 - rect.x0;
+    buf.clear();
+    buf.rows.clear();
+    rasterize_convex_rows(d.hull, rect, |y, from, to| buf.rows.push([y, from, to]));
+    for i in 0..buf.rows.len() {
+        let [y, from, to] = buf.rows[i];
+        buf.push_pixels(
+            (y - rect.y0) * tw + from - rect.x0,
+            from,
+            to,
+            y as f64 + 0.5,
+        );
+    }
+    let n = buf.len().div_ceil(L) * L;
+    let mut i = 0;
+    while i < n {
+        let lane = |s: &[f64]| -> [f64; L] {
+            let mut a = [0.0; L];
+            a.copy_from_slice(&s[i..i + L]);
+            a
+        };
+        let v = d.fan.at_lanes::<L>(&lane(&buf.x), &lane(&buf.y));
+        for l in 0..L {
+            let (b, theta) = gouraud::shade(d.brightness, [v[0][l], v[1][l], v[2][l], v[3][l]]);
+            for ch in 0..3 {
+                buf.b[ch][i + l] = b[ch];
+            }
+            buf.theta[i + l] = theta;
+        }
+        i += L;
+    }
+    composite_all(buf, acc, d.order)
 }
 
 /// Which compiled kernel this processor runs.
@@ -799,6 +934,88 @@ mod tests {
                 match &reference {
                     None => reference = Some(bits),
                     Some(r) => assert!(r == &bits, "{k:?}"),
+                }
+            }
+        }
+    }
+
+    /// The Gouraud fan drawn in lanes by each compiled kernel: the same bits as pixel by pixel.
+    #[test]
+    fn every_compiled_fan_draw_matches_the_pixels() {
+        use crate::render::footprint::footprint;
+        use crate::render::raster::rasterize_convex;
+        use crate::scene::{Camera, Projector};
+        let proj = Projector::new(
+            Some(&Camera::Ortho {
+                left: 0.0,
+                right: 40.0,
+                bottom: 0.0,
+                top: 40.0,
+                front: -10.0,
+                back: 10.0,
+            }),
+            [1.0; 3],
+            40,
+            40,
+        )
+        .unwrap();
+        let eye = [
+            [3.0, 3.0, 0.0],
+            [36.0, 35.0, 0.0],
+            [34.0, 4.0, 2.0],
+            [5.0, 33.0, 2.5],
+        ];
+        let values = [
+            [0.9, 0.2, 0.0, 0.5],
+            [0.8, 0.9, 0.3, 0.0],
+            [1.0, 0.1, 0.8, 0.2],
+            [0.7, 0.4, 0.4, 0.9],
+            [0.3, 0.6, 0.7, 0.1],
+        ];
+        let screen = eye.map(|p| proj.screen(p));
+        let fp = footprint([0, 1, 2, 3], &eye, &screen, &proj).unwrap();
+        let fan = Fan::new(&fp, &values).unwrap();
+        let (v, count) = fp.hull().unwrap();
+        let rect = Rect {
+            x0: 4,
+            y0: 2,
+            x1: 38,
+            y1: 39,
+        };
+        let tw = rect.x1 - rect.x0;
+        let n = tw * (rect.y1 - rect.y0);
+        let start = vec![([0.1, 0.2, 0.3], 1.0); n];
+        let mut want = start.clone();
+        rasterize_convex(&v[..count], rect, |x, y| {
+            let px = gouraud::shade(1.5, fan.at(x as f64 + 0.5, y as f64 + 0.5));
+            composite(
+                Order::BackToFront,
+                &mut want[(y - rect.y0) * tw + x - rect.x0],
+                px,
+            );
+        });
+        #[cfg(target_arch = "x86_64")]
+        let kinds = [Kernel::Baseline, Kernel::Avx2, Kernel::Avx512];
+        #[cfg(not(target_arch = "x86_64"))]
+        let kinds = [Kernel::Baseline];
+        for k in kinds.into_iter().filter(|&k| supported(k)) {
+            let mut acc = start.clone();
+            let mut buf = SpanBuffer::default();
+            let drawn = draw_fan_with(
+                k,
+                &fan,
+                1.5,
+                &v[..count],
+                rect,
+                &mut buf,
+                &mut acc,
+                Order::BackToFront,
+            );
+            assert!(drawn > 300, "{drawn}");
+            for (a, b) in acc.iter().zip(&want) {
+                assert_eq!(a.1.to_bits(), b.1.to_bits(), "{k:?}");
+                for ch in 0..3 {
+                    assert_eq!(a.0[ch].to_bits(), b.0[ch].to_bits(), "{k:?}");
                 }
             }
         }

@@ -54,8 +54,11 @@ impl Approx for InterpolateColor {
 
     #[inline]
     fn screen_pixel(&self, v: [f64; 4]) -> ([f64; 3], f64) {
-        let (theta, k) = (v[0], self.brightness * (1.0 - v[0]));
-        ([v[1] * k, v[2] * k, v[3] * k], theta)
+        crate::render::gouraud::shade(self.brightness, v)
+    }
+
+    fn gouraud_brightness(&self) -> Option<f64> {
+        Some(self.brightness)
     }
 
     fn prepare(

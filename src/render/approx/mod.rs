@@ -80,6 +80,11 @@ pub trait Approx: Sync {
     fn screen_pixel(&self, _values: [f64; 4]) -> ([f64; 3], f64) {
         unreachable!("only methods with SCREEN_SPACE are asked for screen-space pixels")
     }
+    /// Where [`Approx::screen_pixel`] is [`crate::render::gouraud::shade`] with a brightness:
+    /// that brightness, so whole cells can be shaded in lanes ([`crate::render::span::draw_fan`]).
+    fn gouraud_brightness(&self) -> Option<f64> {
+        None
+    }
     /// A method that may hand whole cells to the span kernel ([`Approx::span_cell`]).
     const SPAN: bool = false;
     /// For a cell nothing clips: the cell as [`SpanPieces`] (η and χ affine along every segment
