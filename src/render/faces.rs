@@ -56,7 +56,7 @@ pub fn orient_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
 }
 
 /// The cell edge (index into [`EDGE_NODES`]) between local nodes u and v, either way round.
-const EDGE_OF: [[u8; 4]; 4] = {
+pub const EDGE_OF: [[u8; 4]; 4] = {
     let mut t = [[0u8; 4]; 4];
     let mut e = 0;
     while e < 6 {
@@ -363,6 +363,11 @@ impl CellFaces {
 }
 
 impl CellFaces {
+    /// The cell edges whose splits [`CellFaces::spans`] reads (bit e for [`EDGE_NODES`]`[e]`).
+    pub fn needed(&self) -> u8 {
+        self.needed
+    }
+
     /// The entry and exit face holding pixel x of a prepared row (the face choice of
     /// [`CellFaces::hit_in_row`], without the depths).
     #[inline]
@@ -422,7 +427,7 @@ impl CellFaces {
 }
 
 /// Pixels `x0..x1` of a row with one entry and one exit face.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct Run {
     pub x0: usize,
     pub x1: usize,
@@ -489,6 +494,13 @@ impl DepthRow {
 pub struct Row {
     split: [usize; 6],
     rising: [bool; 6],
+}
+
+impl Row {
+    /// A row whose splits were computed elsewhere ([`super::rows`]), with the same meaning.
+    pub fn new(split: [usize; 6], rising: [bool; 6]) -> Row {
+        Row { split, rising }
+    }
 }
 
 /// The frame's constant for [`CellFaces::new`]: cells are positively oriented in model space and

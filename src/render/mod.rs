@@ -33,6 +33,7 @@ pub mod gouraud;
 pub mod lines;
 pub mod project;
 pub mod raster;
+pub mod rows;
 pub mod runs;
 pub mod span;
 
@@ -625,7 +626,16 @@ fn render_tile<A: Approx>(
                     let Pixels::Direct(acc) = &mut pixels else {
                         unreachable!("span kernels composite directly")
                     };
-                    let drawn = span::draw(&sc, &v[..count], cf, rect, &mut span_buf, acc, order);
+                    let drawn = span::draw(
+                        &sc,
+                        &screen,
+                        &v[..count],
+                        cf,
+                        rect,
+                        &mut span_buf,
+                        acc,
+                        order,
+                    );
                     fragments += drawn;
                     lane_fragments += drawn;
                     continue;

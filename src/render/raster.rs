@@ -323,7 +323,7 @@ pub const ROOT_ERROR: f64 = 1e-14;
 /// `⌊x⌋` without a library call (the baseline x86-64 target has no rounding instruction);
 /// saturating for values beyond ±2⁶³, which the callers clamp anyway.
 #[inline]
-fn floor(x: f64) -> f64 {
+pub(super) fn floor(x: f64) -> f64 {
     let t = x as i64 as f64;
     if t > x { t - 1.0 } else { t }
 }

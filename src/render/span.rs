@@ -16,9 +16,10 @@
 //! depend on the processor.
 
 use super::cell::CellRays;
-use super::faces::{CellFaces, DepthRow};
+use super::faces::{CellFaces, DepthRow, Row};
 use super::gouraud::{self, Fan};
 use super::raster::{Rect, rasterize_convex_rows};
+use super::rows::CellRows;
 use super::{EARLY_TERMINATION, Order, composite};
 use crate::integrate::linear_lanes::{MAX_TERMS, moments, terms_for};
 
@@ -330,8 +331,10 @@ fn shade_with(k: Kernel, cell: &SpanCell, buf: &mut SpanBuffer) {
 /// tile) with their entry and exit depths from `faces`, integrates every piece, and composites
 /// the results into the tile's pixels `acc` (row-major in `rect`) in `order`. Returns the number
 /// of pixels composited. Gathering and compositing are compiled with the kernel, for its width.
+#[allow(clippy::too_many_arguments)]
 pub fn draw(
     pieces: &SpanPieces,
+    screen: &[[f64; 2]; 4],
     hull: &[[f64; 2]],
     faces: &CellFaces,
     rect: Rect,
@@ -339,7 +342,7 @@ pub fn draw(
     acc: &mut [([f64; 3], f64)],
     order: Order,
 ) -> u64 {
-    draw_with(kernel(), pieces, hull, faces, rect, buf, acc, order)
+    draw_with(kernel(), pieces, screen, hull, faces, rect, buf, acc, order)
 }
 
 /// [`draw`] with the kernel compiled for `k` (the baseline one where the processor lacks
@@ -348,6 +351,7 @@ pub fn draw(
 fn draw_with(
     k: Kernel,
     pieces: &SpanPieces,
+    screen: &[[f64; 2]; 4],
     hull: &[[f64; 2]],
     faces: &CellFaces,
     rect: Rect,
@@ -357,6 +361,7 @@ fn draw_with(
 ) -> u64 {
     let d = Draw {
         pieces,
+        screen,
         hull,
         faces,
         rect,
@@ -372,9 +377,33 @@ fn draw_with(
     }
 }
 
+/// The runs of row `y`, pixels `from..to` (splits in `row`), into the buffer with their depths.
+#[inline(always)]
+fn push_row(
+    buf: &mut SpanBuffer,
+    cf: &CellFaces,
+    rect: Rect,
+    y: usize,
+    from: usize,
+    to: usize,
+    row: &Row,
+) {
+    let py = y as f64 + 0.5;
+    let first = (y - rect.y0) * (rect.x1 - rect.x0);
+    for run in cf.spans(row, from, to).runs() {
+        let (entry, exit) = (run.entry as usize, run.exit as usize);
+        let slot = first + run.x0 - rect.x0;
+        match (cf.depth_row(entry, py), cf.depth_row(exit, py)) {
+            (Some(n), Some(f)) => buf.push_run(slot, run.x0, run.x1, py, n, f),
+            _ => buf.push_run_slivers(slot, run.x0, run.x1, py, cf, entry, exit),
+        }
+    }
+}
+
 /// [`draw`]'s arguments.
 struct Draw<'a> {
     pieces: &'a SpanPieces,
+    screen: &'a [[f64; 2]; 4],
     hull: &'a [[f64; 2]],
     faces: &'a CellFaces,
     rect: Rect,
@@ -400,33 +429,22 @@ fn draw_body<const WIDE: usize>(
     acc: &mut [([f64; 3], f64)],
 ) -> u64 {
     let (cf, rect) = (d.faces, d.rect);
-    let tw = rect.x1 - rect.x0;
     buf.clear();
-    // The rows first, then their pixels in this function's own loop: a closure would be
-    // compiled for the baseline target, not for the kernel's.
-    buf.rows.clear();
-    rasterize_convex_rows(d.hull, rect, |y, from, to| buf.rows.push([y, from, to]));
-    for i in 0..buf.rows.len() {
-        let [y, from, to] = buf.rows[i];
-        let row = cf.row(y, from, to);
-        let py = y as f64 + 0.5;
-        let first = (y - rect.y0) * tw;
-        for run in cf.spans(&row, from, to).runs() {
-            let (entry, exit) = (run.entry as usize, run.exit as usize);
-            match (cf.depth_row(entry, py), cf.depth_row(exit, py)) {
-                (Some(n), Some(f)) => {
-                    buf.push_run(first + run.x0 - rect.x0, run.x0, run.x1, py, n, f)
-                }
-                _ => buf.push_run_slivers(
-                    first + run.x0 - rect.x0,
-                    run.x0,
-                    run.x1,
-                    py,
-                    cf,
-                    entry,
-                    exit,
-                ),
+    if let Some(rows) = CellRows::new(d.screen, d.hull, cf, rect) {
+        for y in rows.ys() {
+            if let Some((from, to, row)) = rows.row(y) {
+                push_row(buf, cf, rect, y, from, to, &row);
             }
+        }
+    } else {
+        // The rows first, then their pixels in this function's own loop: a closure would be
+        // compiled for the baseline target, not for the kernel's.
+        buf.rows.clear();
+        rasterize_convex_rows(d.hull, rect, |y, from, to| buf.rows.push([y, from, to]));
+        for i in 0..buf.rows.len() {
+            let [y, from, to] = buf.rows[i];
+            let row = cf.row(y, from, to);
+            push_row(buf, cf, rect, y, from, to, &row);
         }
     }
     if d.pieces.count > 1 {
@@ -918,6 +936,7 @@ mod tests {
                 let drawn = draw_with(
                     k,
                     pieces,
+                    &screen,
                     hull,
                     &faces,
                     rect,
