@@ -657,6 +657,7 @@ fn render_tile<A: Approx>(
                         let drawn = span::draw_fan(
                             &fan,
                             brightness,
+                            &screen,
                             &v[..count],
                             rect,
                             &mut span_buf,

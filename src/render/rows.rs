@@ -11,7 +11,9 @@
 //! of the exact predicates either way, so the rows, runs and faces are the same as the general
 //! path's — pixel for pixel.
 
-use super::faces::{CellFaces, EDGE_OF, Row, inside};
+#[cfg(doc)]
+use super::faces::CellFaces;
+use super::faces::{EDGE_OF, Row, inside};
 use super::raster::{ROOT_ERROR, Rect, boundary, floor};
 use crate::mesh::EDGE_NODES;
 
@@ -47,10 +49,12 @@ impl CellRows {
     /// around it, [`super::footprint::Footprint::hull`]) within `rect`. `None` where the outline
     /// cannot be named by the cell's edges (two nodes on the same screen position): the general
     /// scan conversion takes such a cell.
+    /// `inner`: the cell edges whose splits the rows must also carry (bit e for
+    /// [`EDGE_NODES`]`[e]`; [`CellFaces::needed`], or none).
     pub fn new(
         screen: &[[f64; 2]; 4],
         hull: &[[f64; 2]],
-        faces: &CellFaces,
+        inner: u8,
         rect: Rect,
     ) -> Option<CellRows> {
         // The outline's vertices as nodes.
@@ -74,7 +78,7 @@ impl CellRows {
             inv: [f64::NAN; EDGES],
             ends: [[[0.0; 2]; 2]; 6],
             rising: [true; 6],
-            needed: faces.needed(),
+            needed: inner,
             after: 0,
             before: 0,
             x0: 0,
@@ -187,7 +191,7 @@ impl CellRows {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::faces::entry_sign;
+    use crate::render::faces::{CellFaces, entry_sign};
     use crate::render::footprint::footprint;
     use crate::render::raster::rasterize_convex_rows;
     use crate::scene::{Camera, Projector};
@@ -259,7 +263,8 @@ mod tests {
                         let row = cf.row(y, from, to);
                         want.push((y, from, to, cf.spans(&row, from, to).runs().to_vec()));
                     });
-                    let Some(rows) = CellRows::new(&screen, &hull[..count], &cf, rect) else {
+                    let Some(rows) = CellRows::new(&screen, &hull[..count], cf.needed(), rect)
+                    else {
                         continue;
                     };
                     let mut got = Vec::new();

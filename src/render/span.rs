@@ -430,7 +430,7 @@ fn draw_body<const WIDE: usize>(
 ) -> u64 {
     let (cf, rect) = (d.faces, d.rect);
     buf.clear();
-    if let Some(rows) = CellRows::new(d.screen, d.hull, cf, rect) {
+    if let Some(rows) = CellRows::new(d.screen, d.hull, cf.needed(), rect) {
         for y in rows.ys() {
             if let Some((from, to, row)) = rows.row(y) {
                 push_row(buf, cf, rect, y, from, to, &row);
@@ -492,16 +492,28 @@ fn composite_all(buf: &SpanBuffer, acc: &mut [([f64; 3], f64)], order: Order) ->
 /// the footprint `hull` in `rect`, as [`super::gouraud::shade`] with `brightness`, composited
 /// into `acc` in `order`, in lanes. The same bits as pixel by pixel ([`Fan::at_lanes`]).
 /// Returns the number of pixels composited.
+#[allow(clippy::too_many_arguments)]
 pub fn draw_fan(
     fan: &Fan,
     brightness: f64,
+    screen: &[[f64; 2]; 4],
     hull: &[[f64; 2]],
     rect: Rect,
     buf: &mut SpanBuffer,
     acc: &mut [([f64; 3], f64)],
     order: Order,
 ) -> u64 {
-    draw_fan_with(kernel(), fan, brightness, hull, rect, buf, acc, order)
+    draw_fan_with(
+        kernel(),
+        fan,
+        brightness,
+        screen,
+        hull,
+        rect,
+        buf,
+        acc,
+        order,
+    )
 }
 
 /// [`draw_fan`] compiled for `k` (the baseline where the processor lacks `k`'s features).
@@ -510,6 +522,7 @@ fn draw_fan_with(
     k: Kernel,
     fan: &Fan,
     brightness: f64,
+    screen: &[[f64; 2]; 4],
     hull: &[[f64; 2]],
     rect: Rect,
     buf: &mut SpanBuffer,
@@ -519,6 +532,7 @@ fn draw_fan_with(
     let d = FanDraw {
         fan,
         brightness,
+        screen,
         hull,
         rect,
         order,
@@ -537,6 +551,7 @@ fn draw_fan_with(
 struct FanDraw<'a> {
     fan: &'a Fan,
     brightness: f64,
+    screen: &'a [[f64; 2]; 4],
     hull: &'a [[f64; 2]],
     rect: Rect,
     order: Order,
@@ -563,16 +578,20 @@ fn draw_fan_body<const L: usize>(
     let rect = d.rect;
     let tw = rect.x1 - rect.x0;
     buf.clear();
-    buf.rows.clear();
-    rasterize_convex_rows(d.hull, rect, |y, from, to| buf.rows.push([y, from, to]));
-    for i in 0..buf.rows.len() {
-        let [y, from, to] = buf.rows[i];
-        buf.push_pixels(
-            (y - rect.y0) * tw + from - rect.x0,
-            from,
-            to,
-            y as f64 + 0.5,
-        );
+    let slot = |y: usize, from: usize| (y - rect.y0) * tw + from - rect.x0;
+    if let Some(rows) = CellRows::new(d.screen, d.hull, 0, rect) {
+        for y in rows.ys() {
+            if let Some((from, to, _)) = rows.row(y) {
+                buf.push_pixels(slot(y, from), from, to, y as f64 + 0.5);
+            }
+        }
+    } else {
+        buf.rows.clear();
+        rasterize_convex_rows(d.hull, rect, |y, from, to| buf.rows.push([y, from, to]));
+        for i in 0..buf.rows.len() {
+            let [y, from, to] = buf.rows[i];
+            buf.push_pixels(slot(y, from), from, to, y as f64 + 0.5);
+        }
     }
     let n = buf.len().div_ceil(L) * L;
     let mut i = 0;
@@ -1024,6 +1043,7 @@ mod tests {
                 k,
                 &fan,
                 1.5,
+                &screen,
                 &v[..count],
                 rect,
                 &mut buf,
