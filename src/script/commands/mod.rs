@@ -74,6 +74,11 @@ impl<'a> Call<'a> {
         }
     }
 
+    /// The interpreter running the command (for Tk: the `online` window and the viewer).
+    pub fn interp(&self) -> &Interp {
+        self.interp
+    }
+
     /// The arguments (without the command name).
     pub fn args(&self) -> &[String] {
         self.words.get(1..).unwrap_or(&[])
