@@ -54,6 +54,29 @@ enum Command {
         #[arg(long)]
         small: bool,
     },
+    /// Open the interactive viewer on a mesh: drag turns it, shift-drag pans, the wheel zooms;
+    /// keys 1–4 method, +/− brightness, r reset, s save, p print the commands, q quit.
+    View {
+        /// A mesh file (HyperMesh, .vtu, .vtk, .msh).
+        file: PathBuf,
+        #[arg(long, value_name = "FILE")]
+        colormap: Option<PathBuf>,
+        #[arg(long, value_name = "FILE")]
+        alphamap: Option<PathBuf>,
+        /// The method and its parameters, as for the `method` command (e.g. "exact linear 0 1").
+        #[arg(long, value_name = "METHOD")]
+        method: Option<String>,
+        /// The image size in pixels.
+        #[arg(long, num_args = 2, value_names = ["W", "H"])]
+        size: Option<Vec<usize>>,
+        /// Where `s` saves, numbered like `output` (default: view.png in the current folder).
+        #[arg(long, value_name = "FILE", default_value = "view.png")]
+        output: PathBuf,
+        /// Draw the grid's edges (off by default in the viewer: on large meshes they hide the
+        /// volume).
+        #[arg(long)]
+        lines: bool,
+    },
     /// Write a generated test volume: a jittered box of tetrahedra with a smooth scalar field.
     Generate {
         output: PathBuf,
@@ -169,6 +192,8 @@ fn data_command(command: Command) -> Result<bool, Error> {
                 vol.data.fields.len()
             );
         }
+        // The viewer runs script commands: `main` hands it to a script runner.
+        Command::View { .. } => unreachable!("vorang view is run by main"),
         Command::Generate {
             output,
             tets,
@@ -264,8 +289,79 @@ fn prompt(runner: &mut Runner) -> ExitCode {
     }
 }
 
+/// A Tcl word that stands for `text` itself (every special character escaped).
+fn tcl_word(text: &str) -> String {
+    text.chars()
+        .flat_map(|c| {
+            let plain = c.is_alphanumeric() || "/._-+:,=@%".contains(c);
+            (!plain).then_some('\\').into_iter().chain([c])
+        })
+        .collect()
+}
+
+/// `vorang view`: the options as script commands, then `view` (the CLI is one more front end
+/// of the same commands).
+fn view_script(
+    file: &std::path::Path,
+    colormap: Option<&std::path::Path>,
+    alphamap: Option<&std::path::Path>,
+    method: Option<&str>,
+    size: Option<&[usize]>,
+    output: &std::path::Path,
+    lines: bool,
+) -> String {
+    let path = |p: &std::path::Path| tcl_word(&p.to_string_lossy());
+    let mut script = format!("volume {}\n", path(file));
+    if let Some(c) = colormap {
+        script += &format!("colormap {}\n", path(c));
+    }
+    if let Some(a) = alphamap {
+        script += &format!("alphamap {}\n", path(a));
+    }
+    if let Some(m) = method {
+        script += &format!("method {m}\n");
+    }
+    if let Some([w, h]) = size {
+        script += &format!("imagesize {w} {h}\n");
+    }
+    script += &format!(
+        "output {}\nlinedraw {}\nview\n",
+        path(output),
+        if lines { "on" } else { "off" }
+    );
+    script
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(Command::View {
+        file,
+        colormap,
+        alphamap,
+        method,
+        size,
+        output,
+        lines,
+    }) = &cli.command
+    {
+        let script = view_script(
+            file,
+            colormap.as_deref(),
+            alphamap.as_deref(),
+            method.as_deref(),
+            size.as_deref(),
+            output,
+            *lines,
+        );
+        let mut runner = Runner::new(Box::new(Terminal));
+        return match runner.run_string(&script, "vorang view") {
+            Ok(_) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("vorang view: {}", e.message);
+                ExitCode::FAILURE
+            }
+        };
+    }
     if let Some(command) = cli.command {
         return match data_command(command) {
             Ok(true) => ExitCode::SUCCESS,

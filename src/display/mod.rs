@@ -1,12 +1,15 @@
 //! Windows on the screen (issue 14): the thesis's `online` display, which shows a render
-//! growing tile by tile ([`online`]).
+//! growing tile by tile ([`online`]), and the interactive viewer ([`viewer`]).
 //!
 //! Tk is single-threaded, so every Tk call stays on the thread that runs the Tcl interpreter;
 //! renders run on threads of their own and hand finished pixels back through channels. What a
 //! window shows is converted exactly as the 8-bit image files are ([`rgba8`]), so the window and
 //! the written file agree pixel for pixel.
 
+pub mod legend;
 pub mod online;
+pub mod orbit;
+pub mod viewer;
 mod window;
 
 pub use window::Window;

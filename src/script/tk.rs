@@ -50,7 +50,8 @@ const DL_ALREADY_LOADED: c_int = 0x2 | 0x4;
 #[cfg(all(unix, not(target_os = "linux")))]
 const DL_ALREADY_LOADED: c_int = 0x2 | 0x10;
 
-/// Tk, loaded into one interpreter.
+/// Tk, loaded into one interpreter (two function pointers: cheap to copy).
+#[derive(Clone, Copy)]
 pub struct Tk {
     find_photo: FindPhoto,
     put_block: PutBlock,

@@ -9,6 +9,7 @@ mod image;
 mod lights;
 mod maps;
 mod rendering;
+mod view;
 
 use std::path::{Path, PathBuf};
 
@@ -54,6 +55,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     rendering::METHOD,
     rendering::RENDER_BTF,
     rendering::RENDER_FTB,
+    view::VIEW,
     help::HELP,
 ];
 

@@ -1,0 +1,437 @@
+//! The interactive viewer (issue 14): `vorang view FILE` and the `view` script command.
+//!
+//! One thread runs Tcl and Tk (Tk is single-threaded): it builds the window, turns Tk's mouse
+//! and key events — collected by Tcl bindings into a list variable — into changes of the
+//! [`Orbit`], and puts finished frames into the photo. Renders run on a thread of their own,
+//! one at a time: while the view moves, a fast preview (`interpolateColor` at reduced
+//! resolution, scaled up); once it has been still for [`SETTLE`], the chosen method at full
+//! size. A refined frame made stale by a change is cancelled through the renderer's cancel flag,
+//! so the window follows the mouse and never waits for a frame nobody will see.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use super::legend::{self, Legend};
+use super::orbit::{self, Orbit};
+use super::rgba8;
+use crate::framebuffer::{Framebuffer, format_for, numbered, write_image};
+use crate::mapping::Mapping;
+use crate::render::approx::InterpolateColor;
+use crate::render::{CANCELLED, Method, Order, Settings, render_cancellable};
+use crate::scene::View;
+use crate::script::Session;
+use crate::script::tcl::Interp;
+use crate::script::tk::Tk;
+
+/// How long the view must stay still before the chosen method refines the preview.
+pub const SETTLE: Duration = Duration::from_millis(150);
+/// How often the Tcl thread looks for events and frames.
+const POLL: Duration = Duration::from_millis(8);
+/// The preview has at most about this many pixels.
+const PREVIEW_PIXELS: usize = 192 * 192;
+
+const TOPLEVEL: &str = ".vorang_view";
+const PHOTO: &str = "vorang_view";
+const LEGEND: &str = "vorang_legend";
+const EVENTS: &str = "::vorang::view_events";
+
+/// The reduction of the preview: at least 2, more for large images.
+pub fn preview_factor(width: usize, height: usize) -> usize {
+    let f = ((width * height) as f64 / PREVIEW_PIXELS as f64)
+        .sqrt()
+        .ceil() as usize;
+    f.max(2)
+}
+
+/// A frame to render.
+struct Job {
+    generation: u64,
+    refined: bool,
+    view: View,
+    settings: Settings,
+    cancel: Arc<AtomicBool>,
+}
+
+/// A rendered frame (or why there is none).
+struct Done {
+    generation: u64,
+    refined: bool,
+    frame: Result<Framebuffer, String>,
+    seconds: f64,
+}
+
+/// What the user asked for, from one Tk event.
+enum Input {
+    Press { x: f64, y: f64, shift: bool },
+    Motion { x: f64, y: f64 },
+    Release,
+    Wheel(f64),
+    Key(String),
+}
+
+fn parse_event(interp: &Interp, text: &str) -> Option<Input> {
+    let w = interp.split_list(text).ok()?;
+    let num = |i: usize| w.get(i).and_then(|v| v.parse::<f64>().ok());
+    Some(match w.first()?.as_str() {
+        "press" => Input::Press {
+            x: num(1)?,
+            y: num(2)?,
+            // Tk's state bit 0 is Shift.
+            shift: num(3)? as u32 & 1 != 0,
+        },
+        "motion" => Input::Motion {
+            x: num(1)?,
+            y: num(2)?,
+        },
+        "release" => Input::Release,
+        "wheel" => Input::Wheel(num(1)?),
+        "key" => Input::Key(w.get(1)?.clone()),
+        _ => return None,
+    })
+}
+
+/// The window: image, legend, status line; bindings that append events to [`EVENTS`].
+fn open_window(interp: &Interp, width: usize, height: usize) -> Result<(), String> {
+    let script = format!(
+        r#"
+        namespace eval ::vorang {{ variable view_events {{}}; variable view_status {{}}; variable view_range {{}} }}
+        catch {{ destroy {TOPLEVEL} }}
+        foreach p {{{PHOTO} {LEGEND}}} {{ if {{[lsearch -exact [image names] $p] < 0}} {{ image create photo $p }} }}
+        {PHOTO} blank
+        {PHOTO} configure -width {width} -height {height}
+        {LEGEND} blank
+        {LEGEND} configure -width {width} -height {lh}
+        toplevel {TOPLEVEL} -borderwidth 0 -highlightthickness 0
+        wm title {TOPLEVEL} {{VoRANG view}}
+        label {TOPLEVEL}.image -image {PHOTO} -borderwidth 0 -highlightthickness 0 -padx 0 -pady 0
+        label {TOPLEVEL}.legend -image {LEGEND} -borderwidth 0 -highlightthickness 0 -padx 0 -pady 0
+        label {TOPLEVEL}.range -textvariable ::vorang::view_range -anchor w -justify left -font TkSmallCaptionFont
+        label {TOPLEVEL}.status -textvariable ::vorang::view_status -anchor w -justify left -font TkSmallCaptionFont
+        pack {TOPLEVEL}.image {TOPLEVEL}.legend -side top -anchor nw
+        pack {TOPLEVEL}.range {TOPLEVEL}.status -side top -fill x
+        set w {TOPLEVEL}.image
+        bind $w <ButtonPress-1> {{lappend {EVENTS} [list press %x %y %s]}}
+        bind $w <B1-Motion> {{lappend {EVENTS} [list motion %x %y]}}
+        bind $w <ButtonRelease-1> {{lappend {EVENTS} release}}
+        bind $w <MouseWheel> {{lappend {EVENTS} [list wheel %D]}}
+        bind $w <Button-4> {{lappend {EVENTS} {{wheel 120}}}}
+        bind $w <Button-5> {{lappend {EVENTS} {{wheel -120}}}}
+        bind {TOPLEVEL} <KeyPress> {{lappend {EVENTS} [list key %K]}}
+        wm protocol {TOPLEVEL} WM_DELETE_WINDOW {{lappend {EVENTS} {{key q}}}}
+        update idletasks
+        focus -force {TOPLEVEL}
+        "#,
+        lh = legend::HEIGHT
+    );
+    interp.eval(&script).map(|_| ()).map_err(|e| e.message)
+}
+
+/// Nearest-neighbour enlargement of a preview to the window's size.
+fn enlarge(small: &[u8], sw: usize, sh: usize, width: usize, height: usize) -> Vec<u8> {
+    let mut out = Vec::with_capacity(width * height * 4);
+    for y in 0..height {
+        let sy = (y * sh / height).min(sh - 1);
+        for x in 0..width {
+            let sx = (x * sw / width).min(sw - 1);
+            out.extend_from_slice(&small[(sy * sw + sx) * 4..][..4]);
+        }
+    }
+    out
+}
+
+/// Shows `rgba` (the window's size) in the image.
+fn show(tk: &Tk, interp: &Interp, (width, height): (usize, usize), rgba: &[u8]) {
+    // A failure here (out of memory in Tk) leaves the old picture: nothing else to do.
+    let _ = tk.put(interp, PHOTO, (0, 0), (width, height), rgba);
+}
+
+/// Runs the viewer on the session's scene until the user quits (`q`, or closing the window).
+/// The session keeps the final view and method, so a render after `view` shows what the
+/// viewer showed.
+pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
+    let vol = s
+        .volume
+        .clone()
+        .ok_or("view: no volume loaded: use 'volume file' first")?;
+    let (mapping, warnings) =
+        Mapping::new(&s.colormap, &s.alphamap, &vol).map_err(|e| e.to_string())?;
+    for w in warnings {
+        s.reporter.warn(&w.to_string());
+    }
+    let tk = match s.display.tk(interp) {
+        Ok(tk) => *tk,
+        Err(why) => {
+            return Err(format!(
+                "view: no window can be opened{}",
+                why.map(|w| format!(" ({})", w.lines().next().unwrap_or_default()))
+                    .unwrap_or_default()
+            ));
+        }
+    };
+    let (width, height) = (s.settings.width, s.settings.height);
+    let mut orbit = Orbit::new(&s.view, &vol, width, height)?;
+    let mut method = s.settings.method;
+    open_window(interp, width, height).map_err(|e| format!("view: {e}"))?;
+    match legend::legend(&mapping, &vol, width) {
+        Some(Legend {
+            rgba,
+            min,
+            max,
+            chi_max,
+            ..
+        }) => {
+            let _ = tk.put(interp, LEGEND, (0, 0), (width, legend::HEIGHT), &rgba);
+            interp.set_var(
+                "::vorang::view_range",
+                &format!("{min:.4} … {max:.4}   (colour: η scaled; bars: χ up to {chi_max:.3})"),
+            );
+        }
+        None => interp.set_var(
+            "::vorang::view_range",
+            "no legend: the maps are not a function of one scalar field",
+        ),
+    }
+    let factor = preview_factor(width, height);
+    let cells = vol.mesh.tet_count();
+
+    let (job_send, job_receive) = mpsc::channel::<Job>();
+    let (done_send, done_receive) = mpsc::channel::<Done>();
+    std::thread::scope(|scope| {
+        let (vol, mapping) = (&vol, &mapping);
+        scope.spawn(move || {
+            for job in job_receive {
+                let started = Instant::now();
+                let frame =
+                    render_cancellable(vol, mapping, &job.view, &job.settings, None, &job.cancel)
+                        .map(|(fb, _)| fb)
+                        .map_err(|e| e.to_string());
+                let done = Done {
+                    generation: job.generation,
+                    refined: job.refined,
+                    frame,
+                    seconds: started.elapsed().as_secs_f64(),
+                };
+                if done_send.send(done).is_err() {
+                    break;
+                }
+            }
+        });
+
+        let mut generation = 0u64;
+        let mut changed_at = Instant::now();
+        // The job being rendered: its generation, kind and cancel flag.
+        let mut in_flight: Option<(u64, bool, Arc<AtomicBool>)> = None;
+        let mut shown: Option<(u64, bool)> = None;
+        let mut refined: Option<(u64, Framebuffer)> = None;
+        let mut drag: Option<(f64, f64, bool)> = None;
+        let (mut save, mut quit) = (false, false);
+        let (mut preview_ms, mut refined_ms) = (f64::NAN, f64::NAN);
+        let mut error: Option<String> = None;
+        let result = loop {
+            interp.eval("update").ok();
+            if interp
+                .eval(&format!("winfo exists {TOPLEVEL}"))
+                .is_ok_and(|v| v != "1")
+            {
+                quit = true;
+                save = false;
+            }
+            let events = interp
+                .eval(&format!("set e ${EVENTS}; set {EVENTS} {{}}; set e"))
+                .unwrap_or_default();
+            let mut moved = false;
+            for e in interp.split_list(&events).unwrap_or_default() {
+                let Some(input) = parse_event(interp, &e) else {
+                    continue;
+                };
+                match input {
+                    Input::Press { x, y, shift } => drag = Some((x, y, shift)),
+                    Input::Motion { x, y } => {
+                        if let Some((x0, y0, pan)) = drag {
+                            if pan {
+                                orbit.pan(x - x0, y - y0);
+                            } else {
+                                orbit.rotate(x - x0, y - y0);
+                            }
+                            drag = Some((x, y, pan));
+                            moved = true;
+                        }
+                    }
+                    Input::Release => drag = None,
+                    Input::Wheel(delta) => {
+                        orbit.zoom_by(orbit::ZOOM_STEP.powf(delta / 120.0));
+                        moved = true;
+                    }
+                    Input::Key(k) => match k.as_str() {
+                        "1" | "2" | "3" | "4" => {
+                            let n = k.parse().unwrap_or(0);
+                            if let Some(m) = orbit::method_for_key(n, &method) {
+                                method = m;
+                                moved = true;
+                            }
+                        }
+                        "plus" | "equal" | "KP_Add" => {
+                            method = orbit::scale_brightness(&method, orbit::BRIGHTNESS_STEP);
+                            moved = true;
+                        }
+                        "minus" | "underscore" | "KP_Subtract" => {
+                            method = orbit::scale_brightness(&method, 1.0 / orbit::BRIGHTNESS_STEP);
+                            moved = true;
+                        }
+                        "r" => {
+                            orbit.reset();
+                            moved = true;
+                        }
+                        "s" => save = true,
+                        "p" => {
+                            let lines = orbit::commands(
+                                &orbit.view(),
+                                &method,
+                                &s.settings.lines,
+                                (width, height),
+                            );
+                            s.reporter.info(&format!(
+                                "# view: the commands for this image (after loading the volume and maps)\n{}",
+                                lines.join("\n")
+                            ));
+                        }
+                        "q" | "Escape" => quit = true,
+                        _ => {}
+                    },
+                }
+            }
+            if moved {
+                generation += 1;
+                changed_at = Instant::now();
+                if let Some((_, true, cancel)) = &in_flight {
+                    cancel.store(true, Ordering::Relaxed);
+                }
+            }
+            while let Ok(done) = done_receive.try_recv() {
+                if in_flight
+                    .as_ref()
+                    .is_some_and(|f| (f.0, f.1) == (done.generation, done.refined))
+                {
+                    in_flight = None;
+                }
+                let fb = match done.frame {
+                    Ok(fb) => fb,
+                    Err(e) if e == CANCELLED => continue,
+                    Err(e) => {
+                        error = Some(e);
+                        continue;
+                    }
+                };
+                if done.refined && done.generation != generation {
+                    continue;
+                }
+                let rgba = rgba8(&fb.pixels, fb.transparent);
+                if done.refined {
+                    show(&tk, interp, (width, height), &rgba);
+                    refined_ms = done.seconds * 1e3;
+                    refined = Some((done.generation, fb));
+                } else {
+                    let big = enlarge(&rgba, fb.width, fb.height, width, height);
+                    show(&tk, interp, (width, height), &big);
+                    preview_ms = done.seconds * 1e3;
+                }
+                shown = Some((done.generation, done.refined));
+                error = None;
+            }
+            if let Some((_, fb)) = refined.as_ref().filter(|(g, _)| save && *g == generation) {
+                save = false;
+                if let Err(e) = save_image(s, fb) {
+                    s.reporter.warn(&format!("view: {e}"));
+                }
+            }
+            if quit && !save {
+                break Ok(String::new());
+            }
+            if in_flight.is_none() && error.is_none() {
+                let refine = match shown {
+                    Some((g, false)) if g == generation => changed_at.elapsed() >= SETTLE,
+                    Some((g, true)) if g == generation => false,
+                    _ => false,
+                };
+                let preview = shown.is_none_or(|(g, _)| g != generation);
+                if preview || refine {
+                    let mut settings = Settings {
+                        method,
+                        order: Order::BackToFront,
+                        ..s.settings.clone()
+                    };
+                    if preview {
+                        settings.method = Method::InterpolateColor(InterpolateColor {
+                            brightness: orbit::brightness(&method),
+                        });
+                        settings.width = width.div_ceil(factor);
+                        settings.height = height.div_ceil(factor);
+                    }
+                    let cancel = Arc::new(AtomicBool::new(false));
+                    in_flight = Some((generation, refine, Arc::clone(&cancel)));
+                    let job = Job {
+                        generation,
+                        refined: refine,
+                        view: orbit.view(),
+                        settings,
+                        cancel,
+                    };
+                    if job_send.send(job).is_err() {
+                        break Err("view: the render thread stopped".to_string());
+                    }
+                }
+            }
+            let ms = |v: f64| {
+                if v.is_nan() {
+                    "–".to_string()
+                } else {
+                    format!("{v:.0} ms")
+                }
+            };
+            let state = match (&error, shown) {
+                (Some(e), _) => format!("error: {e}"),
+                (None, Some((g, true))) if g == generation => "refined".to_string(),
+                _ => "preview".to_string(),
+            };
+            interp.set_var(
+                "::vorang::view_status",
+                &format!(
+                    "{}  ·  {cells} cells  ·  {state}  ·  preview {} (1/{factor} size), refined {}\ndrag: turn · shift-drag: pan · wheel: zoom · 1–4 method · +/− brightness · r reset · s save · p print · q quit",
+                    orbit::method_command(&method).trim_start_matches("method "),
+                    ms(preview_ms),
+                    ms(refined_ms)
+                ),
+            );
+            std::thread::sleep(POLL);
+        };
+        if let Some((_, _, cancel)) = &in_flight {
+            cancel.store(true, Ordering::Relaxed);
+        }
+        drop(job_send);
+        let _ = interp.eval(&format!("catch {{destroy {TOPLEVEL}}}; update"));
+        s.view = orbit.view();
+        s.settings.method = method;
+        result
+    })
+}
+
+/// Writes `fb` as the next numbered image, as a render would.
+fn save_image(s: &mut Session, fb: &Framebuffer) -> Result<(), String> {
+    if s.next_number == u32::MAX {
+        return Err("the image numbers are used up: use 'set_nr' to start again".into());
+    }
+    let path = numbered(&s.output, s.next_number);
+    format_for(&path).map_err(|e| e.to_string())?;
+    write_image(fb, &path).map_err(|e| e.to_string())?;
+    s.next_number += 1;
+    s.reporter.info(&format!(
+        "{}  {}×{}  saved from the viewer",
+        crate::script::locate_display(&path),
+        fb.width,
+        fb.height
+    ));
+    s.written.push(path);
+    Ok(())
+}
