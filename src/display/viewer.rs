@@ -107,8 +107,8 @@ fn open_window(interp: &Interp, width: usize, height: usize) -> Result<(), Strin
         wm title {TOPLEVEL} {{VoRANG view}}
         label {TOPLEVEL}.image -image {PHOTO} -borderwidth 0 -highlightthickness 0 -padx 0 -pady 0
         label {TOPLEVEL}.legend -image {LEGEND} -borderwidth 0 -highlightthickness 0 -padx 0 -pady 0
-        label {TOPLEVEL}.range -textvariable ::vorang::view_range -anchor w -justify left -font TkSmallCaptionFont
-        label {TOPLEVEL}.status -textvariable ::vorang::view_status -anchor w -justify left -font TkSmallCaptionFont
+        label {TOPLEVEL}.range -textvariable ::vorang::view_range -anchor w -justify left -font TkSmallCaptionFont -wraplength {wrap}
+        label {TOPLEVEL}.status -textvariable ::vorang::view_status -anchor w -justify left -font TkSmallCaptionFont -wraplength {wrap}
         pack {TOPLEVEL}.image {TOPLEVEL}.legend -side top -anchor nw
         pack {TOPLEVEL}.range {TOPLEVEL}.status -side top -fill x
         set w {TOPLEVEL}.image
@@ -123,7 +123,9 @@ fn open_window(interp: &Interp, width: usize, height: usize) -> Result<(), Strin
         update idletasks
         focus -force {TOPLEVEL}
         "#,
-        lh = legend::HEIGHT
+        lh = legend::HEIGHT,
+        // Text wraps at the image's width, so that the window is as wide as the image.
+        wrap = width.max(240)
     );
     interp.eval(&script).map(|_| ()).map_err(|e| e.message)
 }
@@ -188,10 +190,13 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                 &format!("{min:.4} … {max:.4}   (colour: η scaled; bars: χ up to {chi_max:.3})"),
             );
         }
-        None => interp.set_var(
-            "::vorang::view_range",
-            "no legend: the maps are not a function of one scalar field",
-        ),
+        None => {
+            interp.set_var(
+                "::vorang::view_range",
+                "no legend: the maps are not a function of one scalar field",
+            );
+            let _ = interp.eval(&format!("pack forget {TOPLEVEL}.legend"));
+        }
     }
     let factor = preview_factor(width, height);
     let cells = vol.mesh.tet_count();
@@ -229,6 +234,8 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
         let (mut save, mut quit) = (false, false);
         let (mut preview_ms, mut refined_ms) = (f64::NAN, f64::NAN);
         let mut error: Option<String> = None;
+        // Frame times in seconds (previews, refined), for the VORANG_TIMING summary.
+        let mut times: (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
         let result = loop {
             interp.eval("update").ok();
             if interp
@@ -331,11 +338,13 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                 if done.refined {
                     show(&tk, interp, (width, height), &rgba);
                     refined_ms = done.seconds * 1e3;
+                    times.1.push(done.seconds);
                     refined = Some((done.generation, fb));
                 } else {
                     let big = enlarge(&rgba, fb.width, fb.height, width, height);
                     show(&tk, interp, (width, height), &big);
                     preview_ms = done.seconds * 1e3;
+                    times.0.push(done.seconds);
                 }
                 shown = Some((done.generation, done.refined));
                 error = None;
@@ -411,10 +420,37 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
         }
         drop(job_send);
         let _ = interp.eval(&format!("catch {{destroy {TOPLEVEL}}}; update"));
+        if std::env::var_os("VORANG_TIMING").is_some() {
+            let (pw, ph) = (width.div_ceil(factor), height.div_ceil(factor));
+            s.reporter.info(&format!(
+                "view: {} previews {pw}×{ph} interpolateColor: {}; {} refined {width}×{height} {}: {}",
+                times.0.len(),
+                summary(&mut times.0),
+                times.1.len(),
+                orbit::method_command(&method).trim_start_matches("method "),
+                summary(&mut times.1)
+            ));
+        }
         s.view = orbit.view();
         s.settings.method = method;
         result
     })
+}
+
+/// "median 41 ms (24.4 frames/s), 35…60 ms" of frame times in seconds.
+fn summary(times: &mut [f64]) -> String {
+    if times.is_empty() {
+        return "none".into();
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times[times.len() / 2];
+    format!(
+        "median {:.0} ms ({:.1} frames/s), {:.0}…{:.0} ms",
+        median * 1e3,
+        1.0 / median,
+        times[0] * 1e3,
+        times[times.len() - 1] * 1e3
+    )
 }
 
 /// Writes `fb` as the next numbered image, as a render would.
