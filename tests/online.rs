@@ -34,7 +34,9 @@ fn the_online_window_shows_the_written_pixels_and_is_reused() {
     let script = format!(
         "{}output shot.png
 imagesize 200 150
+after 0 {{set ticked 1}}
 render_btf online
+puts \"events during the render: [info exists ticked]\"
 update
 exec xwd -silent -id [winfo id .vorang] -out first.xwd
 puts \"title [wm title .vorang] windows [winfo children .]\"
@@ -61,6 +63,8 @@ puts \"same [expr {{$id eq [winfo id .vorang]}}] windows [winfo children .]\"
     assert!(stderr.is_empty(), "no warnings with a display: {stderr}");
     assert!(stdout.contains("title VoRANG windows .vorang"), "{stdout}");
     assert!(stdout.contains("same 1 windows .vorang"), "{stdout}");
+    // Tk's event loop ran during the render: the script's timer fired before `update`.
+    assert!(stdout.contains("events during the render: 1"), "{stdout}");
     for (shot, file) in [
         ("first.xwd", "shot.0001.png"),
         ("second.xwd", "shot.0002.png"),

@@ -310,6 +310,8 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                 }
             }
             if moved {
+                // A new view may well render where the last one failed (e.g. a method's step).
+                error = None;
                 generation += 1;
                 changed_at = Instant::now();
                 if let Some((_, true, cancel)) = &in_flight {
@@ -355,15 +357,13 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                     s.reporter.warn(&format!("view: {e}"));
                 }
             }
-            if quit && !save {
+            // A save waits for the refined frame, unless that cannot be rendered.
+            if quit && (!save || error.is_some()) {
                 break Ok(String::new());
             }
             if in_flight.is_none() && error.is_none() {
-                let refine = match shown {
-                    Some((g, false)) if g == generation => changed_at.elapsed() >= SETTLE,
-                    Some((g, true)) if g == generation => false,
-                    _ => false,
-                };
+                let refine = matches!(shown, Some((g, false)) if g == generation)
+                    && changed_at.elapsed() >= SETTLE;
                 let preview = shown.is_none_or(|(g, _)| g != generation);
                 if preview || refine {
                     let mut settings = Settings {

@@ -214,7 +214,7 @@ pub const RENDER_BTF: CommandInfo = CommandInfo {
     name: "render_btf",
     usage: "?online|remote?",
     summary: "render back to front and write the next numbered image; prints the file, size, cells, seconds and the largest channel value",
-    details: "The largest R/G/B value helps tune the brightness factor: above 1, 8-bit formats clip.",
+    details: "The largest R/G/B value helps tune the brightness factor: above 1, 8-bit formats clip. 'online' also shows the image in a window titled VoRANG while it renders (1:1, reused by the next online render; Tk and a display needed — without them one warning, and the file is written as always).",
     run: |s: &mut Session, c: &Call| render_command(s, c, Order::BackToFront),
 };
 
