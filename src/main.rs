@@ -59,17 +59,24 @@ enum Command {
     View {
         /// A mesh file (HyperMesh, .vtu, .vtk, .msh).
         file: PathBuf,
+        /// A colormap file (default: constant red emission).
         #[arg(long, value_name = "FILE")]
         colormap: Option<PathBuf>,
+        /// An alphamap file (default: constant absorption 2).
         #[arg(long, value_name = "FILE")]
         alphamap: Option<PathBuf>,
-        /// The method and its parameters, as for the `method` command (e.g. "exact linear 0 1").
-        #[arg(long, value_name = "METHOD")]
-        method: Option<String>,
+        /// The method and its parameters, as for the `method` command (e.g. "exact linear 0
+        /// 1"); the keys 1–4 switch it in the window.
+        #[arg(
+            long,
+            value_name = "METHOD",
+            default_value = "interpolateCoeff linear 1"
+        )]
+        method: String,
         /// The image size in pixels.
         #[arg(long, num_args = 2, value_names = ["W", "H"])]
         size: Option<Vec<usize>>,
-        /// Where `s` saves, numbered like `output` (default: view.png in the current folder).
+        /// Where `s` saves, numbered like `output` (view.0001.png, …).
         #[arg(long, value_name = "FILE", default_value = "view.png")]
         output: PathBuf,
         /// Draw the grid's edges (off by default in the viewer: on large meshes they hide the
@@ -348,7 +355,7 @@ fn main() -> ExitCode {
             file,
             colormap.as_deref(),
             alphamap.as_deref(),
-            method.as_deref(),
+            Some(method.as_str()),
             size.as_deref(),
             output,
             *lines,
@@ -357,7 +364,7 @@ fn main() -> ExitCode {
         return match runner.run_string(&script, "vorang view") {
             Ok(_) => ExitCode::SUCCESS,
             Err(e) => {
-                eprintln!("vorang view: {}", e.message);
+                eprintln!("vorang: {}", e.message);
                 ExitCode::FAILURE
             }
         };

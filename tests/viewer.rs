@@ -147,3 +147,45 @@ fn without_a_display_view_is_an_error() {
         "{stderr}"
     );
 }
+
+#[test]
+fn vorang_view_loads_the_scene_and_needs_a_display() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_vorang"))
+        .args(["view", &example("farbraum/farbraum.hmesh"), "--colormap"])
+        .arg(example("farbraum/identity.cmap"))
+        .args(["--size", "64", "48", "--method", "exact linear 0 1"])
+        .current_dir(dir.path())
+        .env_remove("DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stderr.starts_with("vorang: view: no window can be opened"),
+        "{stderr}"
+    );
+    // A bad option value is reported by the command it becomes.
+    let out = Command::new(env!("CARGO_BIN_EXE_vorang"))
+        .args(["view", &example("farbraum/farbraum.hmesh")])
+        .args(["--method", "splat 1"])
+        .current_dir(dir.path())
+        .env_remove("DISPLAY")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("unknown method 'splat'"), "{stderr}");
+    // Paths reach the script commands as they are, spaces and Tcl's special characters too.
+    let odd = dir.path().join("a [b] {c} $d;e");
+    std::fs::create_dir(&odd).unwrap();
+    std::fs::copy(example("farbraum/farbraum.hmesh"), odd.join("f g.hmesh")).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_vorang"))
+        .arg("view")
+        .arg(odd.join("f g.hmesh"))
+        .current_dir(dir.path())
+        .env_remove("DISPLAY")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(stderr.contains("no window can be opened"), "{stderr}");
+}
