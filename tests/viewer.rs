@@ -70,6 +70,8 @@ after 300 {{
     event generate $w <ButtonRelease-1> -x 16 -y 13
     event generate .vorang_view <KeyPress> -keysym plus
     after 50 {{when_refined {{
+        # Let Tk redraw the label with the new photo (at idle time) and sync with the server.
+        update
         exec xwd -silent -id [winfo id .vorang_view] -out viewer.xwd
         event generate .vorang_view <KeyPress> -keysym p
         event generate .vorang_view <KeyPress> -keysym s

@@ -5,8 +5,9 @@
 //! [`Orbit`], and puts finished frames into the photo. Renders run on a thread of their own,
 //! one at a time: while the view moves, a fast preview (`interpolateColor` at reduced
 //! resolution, scaled up); once it has been still for [`SETTLE`], the chosen method at full
-//! size. A refined frame made stale by a change is cancelled through the renderer's cancel flag,
-//! so the window follows the mouse and never waits for a frame nobody will see.
+//! size, its tiles shown over the preview as they finish. A refined frame made stale by a change
+//! is cancelled through the renderer's cancel flag, so the window follows the mouse and never
+//! waits for a frame nobody will see.
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
@@ -16,10 +17,10 @@ use std::time::{Duration, Instant};
 use super::legend::{self, Legend};
 use super::orbit::{self, Orbit};
 use super::rgba8;
-use crate::framebuffer::{Framebuffer, format_for, numbered, write_image};
+use crate::framebuffer::{Background, Framebuffer, format_for, numbered, write_image};
 use crate::mapping::Mapping;
 use crate::render::approx::InterpolateColor;
-use crate::render::{CANCELLED, Method, Order, Settings, render_cancellable};
+use crate::render::{CANCELLED, Method, Order, Rect, Settings, TileSink, Watch, render_watched};
 use crate::scene::View;
 use crate::script::Session;
 use crate::script::tcl::Interp;
@@ -203,15 +204,27 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
 
     let (job_send, job_receive) = mpsc::channel::<Job>();
     let (done_send, done_receive) = mpsc::channel::<Done>();
+    // A refined frame's tiles as they finish (generation, where, 8-bit RGBA): shown over the
+    // preview, so a slow method visibly makes progress (the thesis's `online` picture).
+    let (tile_send, tile_receive) = mpsc::channel::<(u64, Rect, Vec<u8>)>();
     std::thread::scope(|scope| {
         let (vol, mapping) = (&vol, &mapping);
         scope.spawn(move || {
             for job in job_receive {
                 let started = Instant::now();
-                let frame =
-                    render_cancellable(vol, mapping, &job.view, &job.settings, None, &job.cancel)
-                        .map(|(fb, _)| fb)
-                        .map_err(|e| e.to_string());
+                let transparent = matches!(job.settings.background, Background::None);
+                let generation = job.generation;
+                let sink = |rect: Rect, pixels: &[[f32; 4]]| {
+                    let _ = tile_send.send((generation, rect, rgba8(pixels, transparent)));
+                };
+                let watch = Watch {
+                    progress: None,
+                    tile: job.refined.then_some(&sink as TileSink),
+                    cancel: &job.cancel,
+                };
+                let frame = render_watched(vol, mapping, &job.view, &job.settings, &watch)
+                    .map(|(fb, _)| fb)
+                    .map_err(|e| e.to_string());
                 let done = Done {
                     generation: job.generation,
                     refined: job.refined,
@@ -316,6 +329,12 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                 changed_at = Instant::now();
                 if let Some((_, true, cancel)) = &in_flight {
                     cancel.store(true, Ordering::Relaxed);
+                }
+            }
+            while let Ok((g, rect, rgba)) = tile_receive.try_recv() {
+                if g == generation && shown != Some((g, true)) {
+                    let size = (rect.x1 - rect.x0, rect.y1 - rect.y0);
+                    let _ = tk.put(interp, PHOTO, (rect.x0, rect.y0), size, &rgba);
                 }
             }
             while let Ok(done) = done_receive.try_recv() {
