@@ -416,6 +416,41 @@ mod tests {
     }
 
     #[test]
+    fn a_perspective_camera_zooms_by_its_field_of_view_and_pans_at_the_centre_depth() {
+        let vol = unit_box();
+        let view = View {
+            look_at: LookAt {
+                eye: [0.0, 0.0, 4.0],
+                reference: [0.0; 3],
+                up: [0.0, 1.0, 0.0],
+            },
+            camera: Some(Camera::Persp {
+                fovy: 40.0,
+                aspect: 1.0,
+                near: 1.0,
+                far: 10.0,
+            }),
+            ..View::default()
+        };
+        let mut o = Orbit::new(&view, &vol, 100, 100).unwrap();
+        assert_eq!(o.view(), view, "no input: the session's view");
+        o.zoom_by(2.0);
+        let Some(Camera::Persp { fovy, .. }) = o.view().camera else {
+            panic!()
+        };
+        let t = (20f64.to_radians().tan() / 2.0).atan().to_degrees() * 2.0;
+        assert!((fovy - t).abs() < 1e-12, "{fovy} {t}");
+        o.pan(0.0, 100.0);
+        // A drag over the whole height moves the eye up by the height seen at the centre's
+        // depth (4): 2·4·tan(fovy/2).
+        let up = o.view().look_at.eye[1];
+        assert!(
+            (up - 8.0 * (0.5 * t.to_radians()).tan()).abs() < 1e-9,
+            "{up}"
+        );
+    }
+
+    #[test]
     fn printed_commands_build_the_same_view_and_method() {
         let vol = unit_box();
         let mut runner = crate::script::Runner::new(Box::new(crate::script::Collect::default()));
