@@ -6,6 +6,9 @@
 //! window shows is converted exactly as the 8-bit image files are ([`rgba8`]), so the window and
 //! the written file agree pixel for pixel.
 
+pub mod commands;
+pub mod controls;
+mod frames;
 pub mod legend;
 pub mod online;
 pub mod orbit;

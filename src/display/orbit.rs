@@ -14,10 +14,8 @@
 //!
 //! Without a camera of the session's own, the viewer starts with an orthographic camera around
 //! the volume's bounding sphere, so no turn moves any part out of the window or the depth range.
+//! The commands that build the view again: [`super::commands`].
 
-use crate::render::Method;
-use crate::render::approx::{Exact, InterpolateCoeff, InterpolateColor, Test};
-use crate::render::lines::LineDraw;
 use crate::scene::transform::{cross, dot, norm};
 use crate::scene::{Camera, LookAt, TransformOp, View};
 use crate::volume::Volume;
@@ -26,8 +24,6 @@ use crate::volume::Volume;
 pub const DEGREES_PER_PIXEL: f64 = 0.5;
 /// Zoom factor per wheel notch.
 pub const ZOOM_STEP: f64 = 1.1;
-/// Brightness factor per `+` or `−`.
-pub const BRIGHTNESS_STEP: f64 = 1.25;
 
 /// The viewer's view: the session's view at the start, and what the mouse did since.
 #[derive(Debug, Clone, PartialEq)]
@@ -222,136 +218,6 @@ fn normalize(q: [f64; 4]) -> [f64; 4] {
     let n = q.iter().map(|v| v * v).sum::<f64>().sqrt();
     q.map(|v| v / n)
 }
-
-/// The script command that sets `method` (numbers in shortest round-trip form, so the command
-/// gives back the same method bit for bit).
-pub fn method_command(method: &Method) -> String {
-    match method {
-        Method::Exact(m) => format!("method exact {} {} {}", m.rule.name, m.step, m.brightness),
-        Method::InterpolateCoeff(m) => {
-            format!("method interpolateCoeff {} {}", m.rule.name, m.brightness)
-        }
-        Method::InterpolateColor(m) => format!("method interpolateColor {}", m.brightness),
-        Method::Test(m) => format!("method test {}", m.opacity),
-    }
-}
-
-/// Method `n` of the keys 1–4 (the thesis's order, most exact first), keeping the brightness
-/// and integration rule of `current` where it has them: 1 `exact` (rule, step 0: one piece per
-/// cell, cut at the maps' breakpoints), 2 `interpolateCoeff`, 3 `interpolateColor`, 4 `test`.
-pub fn method_for_key(n: u32, current: &Method) -> Option<Method> {
-    let (rule, brightness) = match current {
-        Method::Exact(m) => (m.rule, m.brightness),
-        Method::InterpolateCoeff(m) => (m.rule, m.brightness),
-        Method::InterpolateColor(m) => (default_rule(), m.brightness),
-        Method::Test(_) => (default_rule(), 1.0),
-    };
-    Some(match n {
-        1 => Method::Exact(Exact {
-            rule,
-            step: 0.0,
-            brightness,
-        }),
-        2 => Method::InterpolateCoeff(InterpolateCoeff { rule, brightness }),
-        3 => Method::InterpolateColor(InterpolateColor { brightness }),
-        4 => match current {
-            Method::Test(t) => Method::Test(*t),
-            _ => Method::Test(Test { opacity: 0.5 }),
-        },
-        _ => return None,
-    })
-}
-
-fn default_rule() -> &'static crate::integrate::RuleInfo {
-    crate::integrate::find("linear").unwrap_or(&crate::integrate::RULES[0])
-}
-
-/// `current` with its brightness times `factor` (`test`: its opacity, kept in 0…1).
-pub fn scale_brightness(current: &Method, factor: f64) -> Method {
-    let mut m = *current;
-    match &mut m {
-        Method::Exact(e) => e.brightness *= factor,
-        Method::InterpolateCoeff(c) => c.brightness *= factor,
-        Method::InterpolateColor(c) => c.brightness *= factor,
-        Method::Test(t) => t.opacity = (t.opacity * factor).clamp(0.0, 1.0),
-    }
-    m
-}
-
-/// The brightness of the preview (`interpolateColor`) for `current`.
-pub fn brightness(current: &Method) -> f64 {
-    match current {
-        Method::Exact(m) => m.brightness,
-        Method::InterpolateCoeff(m) => m.brightness,
-        Method::InterpolateColor(m) => m.brightness,
-        Method::Test(_) => 1.0,
-    }
-}
-
-/// The script commands that set the image size, method, grid lines and `view` (what `p`
-/// prints). Numbers are in shortest round-trip form: the commands build the same view.
-pub fn commands(
-    view: &View,
-    method: &Method,
-    lines: &LineDraw,
-    (width, height): (usize, usize),
-) -> Vec<String> {
-    let mut out = vec![
-        format!("imagesize {width} {height}"),
-        method_command(method),
-    ];
-    out.push(match lines {
-        LineDraw::Off => "linedraw off".into(),
-        LineDraw::All => "linedraw on".into(),
-        LineDraw::Cells { field, values } => format!(
-            "linedraw {field} {{{}}}",
-            values
-                .iter()
-                .map(f64::to_string)
-                .collect::<Vec<_>>()
-                .join(" ")
-        ),
-    });
-    let n = |v: &[f64]| v.iter().map(f64::to_string).collect::<Vec<_>>().join(" ");
-    for op in &view.transforms {
-        out.push(match op {
-            TransformOp::Scale(s) => format!("vol_scale {}", n(s)),
-            TransformOp::Translate(t) => format!("vol_translate {}", n(t)),
-            TransformOp::Rotate { axis, degrees } => {
-                format!("vol_rotate {} {degrees}", n(axis))
-            }
-        });
-    }
-    let l = view.look_at;
-    out.push(format!(
-        "look_at {} {} {}",
-        n(&l.eye),
-        n(&l.reference),
-        n(&l.up)
-    ));
-    match view.camera {
-        Some(Camera::Ortho {
-            left,
-            right,
-            bottom,
-            top,
-            front,
-            back,
-        }) => out.push(format!(
-            "ortho_camera {}",
-            n(&[left, right, bottom, top, front, back])
-        )),
-        Some(Camera::Persp {
-            fovy,
-            aspect,
-            near,
-            far,
-        }) => out.push(format!("persp_camera {}", n(&[fovy, aspect, near, far]))),
-        None => {}
-    }
-    out
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -448,45 +314,5 @@ mod tests {
             (up - 8.0 * (0.5 * t.to_radians()).tan()).abs() < 1e-9,
             "{up}"
         );
-    }
-
-    #[test]
-    fn printed_commands_build_the_same_view_and_method() {
-        let vol = unit_box();
-        let mut runner = crate::script::Runner::new(Box::new(crate::script::Collect::default()));
-        let mut o = Orbit::new(&View::default(), &vol, 64, 48).unwrap();
-        o.rotate(37.0, -11.0);
-        o.zoom_by(1.1 * 1.1);
-        o.pan(3.0, 7.0);
-        let method = Method::parse(&["exact", "linear", "0", "1.3"]).unwrap();
-        let method = scale_brightness(&method, BRIGHTNESS_STEP);
-        let view = o.view();
-        let script = commands(&view, &method, &LineDraw::Off, (64, 48)).join("\n");
-        runner.session().volume = Some(std::sync::Arc::new(vol));
-        runner.run_string(&script, "-e").unwrap();
-        let s = runner.session();
-        assert_eq!(s.view, view);
-        assert_eq!(s.settings.method, method);
-        assert_eq!((s.settings.width, s.settings.height), (64, 48));
-        assert_eq!(s.settings.lines, LineDraw::Off);
-    }
-
-    #[test]
-    fn keys_choose_methods_keeping_brightness() {
-        let m = Method::parse(&["interpolateColor", "2"]).unwrap();
-        assert_eq!(
-            method_command(&method_for_key(1, &m).unwrap()),
-            "method exact linear 0 2"
-        );
-        assert_eq!(
-            method_command(&method_for_key(2, &m).unwrap()),
-            "method interpolateCoeff linear 2"
-        );
-        assert_eq!(
-            method_command(&method_for_key(4, &m).unwrap()),
-            "method test 0.5"
-        );
-        assert_eq!(method_for_key(5, &m), None);
-        assert_eq!(brightness(&scale_brightness(&m, 1.25)), 2.5);
     }
 }

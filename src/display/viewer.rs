@@ -14,14 +14,16 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
+use super::commands;
+use super::controls::{self, Action, Controls, parse_event};
+use super::frames::{self, Done, Job, Tile};
 use super::legend::{self, Legend};
-use super::orbit::{self, Orbit};
+use super::orbit::Orbit;
 use super::rgba8;
-use crate::framebuffer::{Background, Framebuffer, format_for, numbered, write_image};
+use crate::framebuffer::{Framebuffer, format_for, numbered, write_image};
 use crate::mapping::Mapping;
 use crate::render::approx::InterpolateColor;
-use crate::render::{CANCELLED, Method, Order, Rect, Settings, TileSink, Watch, render_watched};
-use crate::scene::View;
+use crate::render::{CANCELLED, Method, Order, Settings};
 use crate::script::Session;
 use crate::script::tcl::Interp;
 use crate::script::tk::Tk;
@@ -44,53 +46,6 @@ pub fn preview_factor(width: usize, height: usize) -> usize {
         .sqrt()
         .ceil() as usize;
     f.max(2)
-}
-
-/// A frame to render.
-struct Job {
-    generation: u64,
-    refined: bool,
-    view: View,
-    settings: Settings,
-    cancel: Arc<AtomicBool>,
-}
-
-/// A rendered frame (or why there is none).
-struct Done {
-    generation: u64,
-    refined: bool,
-    frame: Result<Framebuffer, String>,
-    seconds: f64,
-}
-
-/// What the user asked for, from one Tk event.
-enum Input {
-    Press { x: f64, y: f64, shift: bool },
-    Motion { x: f64, y: f64 },
-    Release,
-    Wheel(f64),
-    Key(String),
-}
-
-fn parse_event(interp: &Interp, text: &str) -> Option<Input> {
-    let w = interp.split_list(text).ok()?;
-    let num = |i: usize| w.get(i).and_then(|v| v.parse::<f64>().ok());
-    Some(match w.first()?.as_str() {
-        "press" => Input::Press {
-            x: num(1)?,
-            y: num(2)?,
-            // Tk's state bit 0 is Shift.
-            shift: num(3)? as u32 & 1 != 0,
-        },
-        "motion" => Input::Motion {
-            x: num(1)?,
-            y: num(2)?,
-        },
-        "release" => Input::Release,
-        "wheel" => Input::Wheel(num(1)?),
-        "key" => Input::Key(w.get(1)?.clone()),
-        _ => return None,
-    })
 }
 
 /// The window: image, legend, status line; bindings that append events to [`EVENTS`].
@@ -204,38 +159,12 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
 
     let (job_send, job_receive) = mpsc::channel::<Job>();
     let (done_send, done_receive) = mpsc::channel::<Done>();
-    // A refined frame's tiles as they finish (generation, where, 8-bit RGBA): shown over the
-    // preview, so a slow method visibly makes progress (the thesis's `online` picture).
-    let (tile_send, tile_receive) = mpsc::channel::<(u64, Rect, Vec<u8>)>();
+    // A refined frame's tiles as they finish: shown over the preview, so a slow method visibly
+    // makes progress (the thesis's `online` picture).
+    let (tile_send, tile_receive) = mpsc::channel::<Tile>();
     std::thread::scope(|scope| {
         let (vol, mapping) = (&vol, &mapping);
-        scope.spawn(move || {
-            for job in job_receive {
-                let started = Instant::now();
-                let transparent = matches!(job.settings.background, Background::None);
-                let generation = job.generation;
-                let sink = |rect: Rect, pixels: &[[f32; 4]]| {
-                    let _ = tile_send.send((generation, rect, rgba8(pixels, transparent)));
-                };
-                let watch = Watch {
-                    progress: None,
-                    tile: job.refined.then_some(&sink as TileSink),
-                    cancel: &job.cancel,
-                };
-                let frame = render_watched(vol, mapping, &job.view, &job.settings, &watch)
-                    .map(|(fb, _)| fb)
-                    .map_err(|e| e.to_string());
-                let done = Done {
-                    generation: job.generation,
-                    refined: job.refined,
-                    frame,
-                    seconds: started.elapsed().as_secs_f64(),
-                };
-                if done_send.send(done).is_err() {
-                    break;
-                }
-            }
-        });
+        scope.spawn(move || frames::render(vol, mapping, job_receive, done_send, tile_send));
 
         let mut generation = 0u64;
         let mut changed_at = Instant::now();
@@ -243,7 +172,7 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
         let mut in_flight: Option<(u64, bool, Arc<AtomicBool>)> = None;
         let mut shown: Option<(u64, bool)> = None;
         let mut refined: Option<(u64, Framebuffer)> = None;
-        let mut drag: Option<(f64, f64, bool)> = None;
+        let mut controls = Controls::default();
         let (mut save, mut quit) = (false, false);
         let (mut preview_ms, mut refined_ms) = (f64::NAN, f64::NAN);
         let mut error: Option<String> = None;
@@ -266,60 +195,23 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                 let Some(input) = parse_event(interp, &e) else {
                     continue;
                 };
-                match input {
-                    Input::Press { x, y, shift } => drag = Some((x, y, shift)),
-                    Input::Motion { x, y } => {
-                        if let Some((x0, y0, pan)) = drag {
-                            if pan {
-                                orbit.pan(x - x0, y - y0);
-                            } else {
-                                orbit.rotate(x - x0, y - y0);
-                            }
-                            drag = Some((x, y, pan));
-                            moved = true;
-                        }
+                match controls.apply(input, &mut orbit, &mut method) {
+                    Action::None => {}
+                    Action::Moved => moved = true,
+                    Action::Save => save = true,
+                    Action::Print => {
+                        let lines = commands::commands(
+                            &orbit.view(),
+                            &method,
+                            &s.settings.lines,
+                            (width, height),
+                        );
+                        s.reporter.info(&format!(
+                            "# view: the commands for this image (after loading the volume and maps)\n{}",
+                            lines.join("\n")
+                        ));
                     }
-                    Input::Release => drag = None,
-                    Input::Wheel(delta) => {
-                        orbit.zoom_by(orbit::ZOOM_STEP.powf(delta / 120.0));
-                        moved = true;
-                    }
-                    Input::Key(k) => match k.as_str() {
-                        "1" | "2" | "3" | "4" => {
-                            let n = k.parse().unwrap_or(0);
-                            if let Some(m) = orbit::method_for_key(n, &method) {
-                                method = m;
-                                moved = true;
-                            }
-                        }
-                        "plus" | "equal" | "KP_Add" => {
-                            method = orbit::scale_brightness(&method, orbit::BRIGHTNESS_STEP);
-                            moved = true;
-                        }
-                        "minus" | "underscore" | "KP_Subtract" => {
-                            method = orbit::scale_brightness(&method, 1.0 / orbit::BRIGHTNESS_STEP);
-                            moved = true;
-                        }
-                        "r" => {
-                            orbit.reset();
-                            moved = true;
-                        }
-                        "s" => save = true,
-                        "p" => {
-                            let lines = orbit::commands(
-                                &orbit.view(),
-                                &method,
-                                &s.settings.lines,
-                                (width, height),
-                            );
-                            s.reporter.info(&format!(
-                                "# view: the commands for this image (after loading the volume and maps)\n{}",
-                                lines.join("\n")
-                            ));
-                        }
-                        "q" | "Escape" => quit = true,
-                        _ => {}
-                    },
+                    Action::Quit => quit = true,
                 }
             }
             if moved {
@@ -392,7 +284,7 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                     };
                     if preview {
                         settings.method = Method::InterpolateColor(InterpolateColor {
-                            brightness: orbit::brightness(&method),
+                            brightness: controls::brightness(&method),
                         });
                         settings.width = width.div_ceil(factor);
                         settings.height = height.div_ceil(factor);
@@ -427,7 +319,7 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                 "::vorang::view_status",
                 &format!(
                     "{}  ·  {cells} cells  ·  {state}  ·  preview {} (1/{factor} size), refined {}\ndrag: turn · shift-drag: pan · wheel: zoom · 1–4 method · +/− brightness · r reset · s save · p print · q quit",
-                    orbit::method_command(&method).trim_start_matches("method "),
+                    commands::method_command(&method).trim_start_matches("method "),
                     ms(preview_ms),
                     ms(refined_ms)
                 ),
@@ -446,7 +338,7 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                 times.0.len(),
                 summary(&mut times.0),
                 times.1.len(),
-                orbit::method_command(&method).trim_start_matches("method "),
+                commands::method_command(&method).trim_start_matches("method "),
                 summary(&mut times.1)
             ));
         }
