@@ -252,33 +252,76 @@ fn report(e: &ScriptError) {
     }
 }
 
+/// What the prompt asks of its line-editing thread.
+enum Ask {
+    Line(&'static str),
+    History(String),
+}
+
+/// How often the prompt lets Tcl handle events while it waits for a line.
+const PROMPT_EVENTS: std::time::Duration = std::time::Duration::from_millis(30);
+
 /// The interactive prompt: commands and Tcl, with line editing and history.
+///
+/// The line editor runs on a thread of its own, so that while it waits for the user this
+/// (the Tcl) thread keeps handling Tcl's and Tk's events: an `online` window or a viewer left
+/// open stays drawn, and `after` timers fire.
 fn prompt(runner: &mut Runner) -> ExitCode {
     println!(
         "VoRANG {} — Tcl with the VoRANG commands; 'help' lists them, 'exit' quits.",
         env!("CARGO_PKG_VERSION")
     );
-    let mut editor = match rustyline::DefaultEditor::new() {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("vorang: cannot start the prompt: {e}");
-            return ExitCode::FAILURE;
+    let (ask, asked) = std::sync::mpsc::channel::<Ask>();
+    let (answer, answers) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut editor = match rustyline::DefaultEditor::new() {
+            Ok(e) => e,
+            Err(e) => {
+                let _ = answer.send(Err(e));
+                return;
+            }
+        };
+        for a in asked {
+            match a {
+                Ask::Line(prompt) => {
+                    if answer.send(editor.readline(prompt)).is_err() {
+                        return;
+                    }
+                }
+                Ask::History(entry) => {
+                    let _ = editor.add_history_entry(entry);
+                }
+            }
         }
-    };
+    });
     let mut buffer = String::new();
     loop {
-        match editor.readline(if buffer.is_empty() {
+        let _ = ask.send(Ask::Line(if buffer.is_empty() {
             "vorang> "
         } else {
             "   ...> "
-        }) {
+        }));
+        let line = loop {
+            match answers.recv_timeout(PROMPT_EVENTS) {
+                Ok(line) => break line,
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                    // Errors of event handlers are Tcl's to report (bgerror).
+                    let _ = runner.run_string("update", "<prompt>");
+                }
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                    eprintln!("vorang: the prompt stopped");
+                    return ExitCode::FAILURE;
+                }
+            }
+        };
+        match line {
             Ok(line) => {
                 buffer.push_str(&line);
                 buffer.push('\n');
                 if !Runner::is_complete(&buffer) {
                     continue;
                 }
-                let _ = editor.add_history_entry(buffer.trim_end());
+                let _ = ask.send(Ask::History(buffer.trim_end().to_string()));
                 match runner.run_string(&buffer, "<prompt>") {
                     Ok(result) if !result.is_empty() => println!("{result}"),
                     Ok(_) => {}
