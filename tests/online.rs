@@ -158,3 +158,33 @@ fn the_tiles_handed_out_during_a_render_make_up_the_image() {
     assert_eq!(tiles, 5 * 4);
     assert!(pixels.iter().zip(&fb.pixels).all(|(a, b)| a == b));
 }
+
+/// A window that cannot be opened costs only the picture on the screen: with Tk's main window
+/// destroyed by the script, `online` warns and writes the file.
+#[test]
+fn online_without_tk_main_window_warns_and_writes_the_file() {
+    let Some(x) = Xvfb::start() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let script = format!(
+        "{}output out.png\nimagesize 40 30\nrender_btf online\ndestroy .\nrender_btf online\nputs done\n",
+        scene()
+    );
+    std::fs::write(dir.path().join("destroyed.tcl"), script).unwrap();
+    let out = Command::new(env!("CARGO_BIN_EXE_vorang"))
+        .arg("destroyed.tcl")
+        .current_dir(dir.path())
+        .env("DISPLAY", &x.display)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    assert!(stdout.contains("done"), "{stdout}");
+    assert!(
+        stderr.contains("render_btf: the online window cannot be opened"),
+        "{stderr}"
+    );
+    for f in ["out.0001.png", "out.0002.png"] {
+        assert!(dir.path().join(f).is_file(), "{f}");
+    }
+}

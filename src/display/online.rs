@@ -32,7 +32,10 @@ pub fn show_while_rendering<T: Send>(
         let mut last_update = Instant::now();
         loop {
             match receive.recv_timeout(EVENT_INTERVAL) {
-                Ok((rect, rgba)) => window.put(rect, &rgba)?,
+                // Fails only if the script deleted the photo image: nothing to show then.
+                Ok((rect, rgba)) => {
+                    let _ = window.put(rect, &rgba);
+                }
                 Err(mpsc::RecvTimeoutError::Timeout) => {}
                 // The sink is dropped when the render returns.
                 Err(mpsc::RecvTimeoutError::Disconnected) => break,

@@ -130,19 +130,30 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
         };
         render_watched(&vol, &mapping, view, &settings, &watch)
     };
-    let result = match tk {
-        Some(tk) => {
-            let window = Window::open(tk, c.interp(), settings.width, settings.height)
-                .map_err(|e| format!("{}: the online window: {e}", c.info.name))?;
+    // A window that cannot be opened (e.g. the script destroyed Tk's main window) costs the
+    // picture on the screen, not the render: warn and write the file as without a display.
+    let window = tk.and_then(
+        |tk| match Window::open(tk, c.interp(), settings.width, settings.height) {
+            Ok(w) => Some(w),
+            Err(e) => {
+                s.reporter.warn(&format!(
+                    "{}: the online window cannot be opened ({e}); the image is written to its file only",
+                    c.info.name
+                ));
+                None
+            }
+        },
+    );
+    let result = match window {
+        Some(window) => {
             let transparent = matches!(settings.background, Background::None);
             let result = show_while_rendering(&window, transparent, |sink| run(Some(sink)))
                 .map_err(|e| format!("{}: {e}", c.info.name))?;
             // The tiles covered the image; the whole frame once more makes sure the window
             // holds exactly the file's pixels.
             if let Ok((fb, _)) = &result {
-                window
-                    .put_all(&rgba8(&fb.pixels, fb.transparent))
-                    .map_err(|e| format!("{}: the online window: {e}", c.info.name))?;
+                // Only fails if the photo image was deleted meanwhile: nothing left to show.
+                let _ = window.put_all(&rgba8(&fb.pixels, fb.transparent));
                 window.update();
             }
             result
