@@ -26,15 +26,9 @@ impl Xvfb {
                 .status()
                 .map_or(true, |s| !s.success())
             {
-                let why = format!(
+                skip_or_fail(&format!(
                     "{tool} is not installed (apt-get install xvfb x11-apps; .ci/run installs them)"
-                );
-                // CI installs them: there a missing tool is a failure, not a skip.
-                assert!(
-                    std::env::var_os("VORANG_WINDOW_TESTS").is_none_or(|v| v != "required"),
-                    "{why}"
-                );
-                eprintln!("skipping: {why}");
+                ));
                 return None;
             }
         }
@@ -59,11 +53,35 @@ impl Xvfb {
             .expect("read Xvfb's display number");
         let number = line.trim();
         assert!(!number.is_empty(), "Xvfb gave no display number");
-        Some(Xvfb {
+        let x = Xvfb {
             child,
             display: format!(":{number}"),
-        })
+        };
+        // The windows load Tk at run time: without it there is nothing to test here.
+        let tk = Command::new(env!("CARGO_BIN_EXE_vorang"))
+            .args(["-e", "package require Tk 8.6"])
+            .env("DISPLAY", &x.display)
+            .output()
+            .expect("run vorang");
+        if !tk.status.success() {
+            skip_or_fail(&format!(
+                "Tk 8.6 cannot be loaded (apt-get install tk-dev): {}",
+                String::from_utf8_lossy(&tk.stderr).trim()
+            ));
+            return None;
+        }
+        Some(x)
     }
+}
+
+/// Says why a window test is skipped — or fails, under `.ci/run`, which installs everything
+/// the window tests need (`VORANG_WINDOW_TESTS=required`).
+fn skip_or_fail(why: &str) {
+    assert!(
+        std::env::var_os("VORANG_WINDOW_TESTS").is_none_or(|v| v != "required"),
+        "{why}"
+    );
+    eprintln!("skipping: {why}");
 }
 
 impl Drop for Xvfb {
