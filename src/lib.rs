@@ -45,6 +45,7 @@
 
 pub mod accuracy;
 pub mod atomic;
+pub mod display;
 pub mod error;
 pub mod field;
 pub mod formats;

@@ -54,6 +54,36 @@ enum Command {
         #[arg(long)]
         small: bool,
     },
+    /// Open the interactive viewer on a mesh: drag turns it, shift-drag pans, the wheel zooms;
+    /// keys 1–4 method, +/− brightness, r reset, s save, p print the commands, q quit.
+    View {
+        /// A mesh file (HyperMesh, .vtu, .vtk, .msh).
+        file: PathBuf,
+        /// A colormap file (default: constant red emission).
+        #[arg(long, value_name = "FILE")]
+        colormap: Option<PathBuf>,
+        /// An alphamap file (default: constant absorption 2).
+        #[arg(long, value_name = "FILE")]
+        alphamap: Option<PathBuf>,
+        /// The method and its parameters, as for the `method` command (e.g. "exact linear 0
+        /// 1"); the keys 1–4 switch it in the window.
+        #[arg(
+            long,
+            value_name = "METHOD",
+            default_value = "interpolateCoeff linear 1"
+        )]
+        method: String,
+        /// The image size in pixels.
+        #[arg(long, num_args = 2, value_names = ["W", "H"])]
+        size: Option<Vec<usize>>,
+        /// Where `s` saves, numbered like `output` (view.0001.png, …).
+        #[arg(long, value_name = "FILE", default_value = "view.png")]
+        output: PathBuf,
+        /// Draw the grid's edges (off by default in the viewer: on large meshes they hide the
+        /// volume).
+        #[arg(long)]
+        lines: bool,
+    },
     /// Write a generated test volume: a jittered box of tetrahedra with a smooth scalar field.
     Generate {
         output: PathBuf,
@@ -169,6 +199,8 @@ fn data_command(command: Command) -> Result<bool, Error> {
                 vol.data.fields.len()
             );
         }
+        // The viewer runs script commands: `main` hands it to a script runner.
+        Command::View { .. } => unreachable!("vorang view is run by main"),
         Command::Generate {
             output,
             tets,
@@ -220,33 +252,76 @@ fn report(e: &ScriptError) {
     }
 }
 
+/// What the prompt asks of its line-editing thread.
+enum Ask {
+    Line(&'static str),
+    History(String),
+}
+
+/// How often the prompt lets Tcl handle events while it waits for a line.
+const PROMPT_EVENTS: std::time::Duration = std::time::Duration::from_millis(30);
+
 /// The interactive prompt: commands and Tcl, with line editing and history.
+///
+/// The line editor runs on a thread of its own, so that while it waits for the user this
+/// (the Tcl) thread keeps handling Tcl's and Tk's events: an `online` window or a viewer left
+/// open stays drawn, and `after` timers fire.
 fn prompt(runner: &mut Runner) -> ExitCode {
     println!(
         "VoRANG {} — Tcl with the VoRANG commands; 'help' lists them, 'exit' quits.",
         env!("CARGO_PKG_VERSION")
     );
-    let mut editor = match rustyline::DefaultEditor::new() {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("vorang: cannot start the prompt: {e}");
-            return ExitCode::FAILURE;
+    let (ask, asked) = std::sync::mpsc::channel::<Ask>();
+    let (answer, answers) = std::sync::mpsc::channel();
+    std::thread::spawn(move || {
+        let mut editor = match rustyline::DefaultEditor::new() {
+            Ok(e) => e,
+            Err(e) => {
+                let _ = answer.send(Err(e));
+                return;
+            }
+        };
+        for a in asked {
+            match a {
+                Ask::Line(prompt) => {
+                    if answer.send(editor.readline(prompt)).is_err() {
+                        return;
+                    }
+                }
+                Ask::History(entry) => {
+                    let _ = editor.add_history_entry(entry);
+                }
+            }
         }
-    };
+    });
     let mut buffer = String::new();
     loop {
-        match editor.readline(if buffer.is_empty() {
+        let _ = ask.send(Ask::Line(if buffer.is_empty() {
             "vorang> "
         } else {
             "   ...> "
-        }) {
+        }));
+        let line = loop {
+            match answers.recv_timeout(PROMPT_EVENTS) {
+                Ok(line) => break line,
+                Err(std::sync::mpsc::RecvTimeoutError::Timeout) => {
+                    // Errors of event handlers are Tcl's to report (bgerror).
+                    let _ = runner.run_string("update", "<prompt>");
+                }
+                Err(std::sync::mpsc::RecvTimeoutError::Disconnected) => {
+                    eprintln!("vorang: the prompt stopped");
+                    return ExitCode::FAILURE;
+                }
+            }
+        };
+        match line {
             Ok(line) => {
                 buffer.push_str(&line);
                 buffer.push('\n');
                 if !Runner::is_complete(&buffer) {
                     continue;
                 }
-                let _ = editor.add_history_entry(buffer.trim_end());
+                let _ = ask.send(Ask::History(buffer.trim_end().to_string()));
                 match runner.run_string(&buffer, "<prompt>") {
                     Ok(result) if !result.is_empty() => println!("{result}"),
                     Ok(_) => {}
@@ -264,8 +339,79 @@ fn prompt(runner: &mut Runner) -> ExitCode {
     }
 }
 
+/// A Tcl word that stands for `text` itself (every special character escaped).
+fn tcl_word(text: &str) -> String {
+    text.chars()
+        .flat_map(|c| {
+            let plain = c.is_alphanumeric() || "/._-+:,=@%".contains(c);
+            (!plain).then_some('\\').into_iter().chain([c])
+        })
+        .collect()
+}
+
+/// `vorang view`: the options as script commands, then `view` (the CLI is one more front end
+/// of the same commands).
+fn view_script(
+    file: &std::path::Path,
+    colormap: Option<&std::path::Path>,
+    alphamap: Option<&std::path::Path>,
+    method: Option<&str>,
+    size: Option<&[usize]>,
+    output: &std::path::Path,
+    lines: bool,
+) -> String {
+    let path = |p: &std::path::Path| tcl_word(&p.to_string_lossy());
+    let mut script = format!("volume {}\n", path(file));
+    if let Some(c) = colormap {
+        script += &format!("colormap {}\n", path(c));
+    }
+    if let Some(a) = alphamap {
+        script += &format!("alphamap {}\n", path(a));
+    }
+    if let Some(m) = method {
+        script += &format!("method {m}\n");
+    }
+    if let Some([w, h]) = size {
+        script += &format!("imagesize {w} {h}\n");
+    }
+    script += &format!(
+        "output {}\nlinedraw {}\nview\n",
+        path(output),
+        if lines { "on" } else { "off" }
+    );
+    script
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    if let Some(Command::View {
+        file,
+        colormap,
+        alphamap,
+        method,
+        size,
+        output,
+        lines,
+    }) = &cli.command
+    {
+        let script = view_script(
+            file,
+            colormap.as_deref(),
+            alphamap.as_deref(),
+            Some(method.as_str()),
+            size.as_deref(),
+            output,
+            *lines,
+        );
+        let mut runner = Runner::new(Box::new(Terminal));
+        return match runner.run_string(&script, "vorang view") {
+            Ok(_) => ExitCode::SUCCESS,
+            Err(e) => {
+                eprintln!("vorang: {}", e.message);
+                ExitCode::FAILURE
+            }
+        };
+    }
     if let Some(command) = cli.command {
         return match data_command(command) {
             Ok(true) => ExitCode::SUCCESS,

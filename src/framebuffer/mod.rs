@@ -65,15 +65,7 @@ impl Framebuffer {
     /// with colour): it is lost there; the opaque default keeps it.
     #[inline]
     pub fn output_pixel(&self, p: &[f32; 4]) -> [f32; 4] {
-        if !self.transparent {
-            return [p[0], p[1], p[2], 1.0];
-        }
-        let a = p[3];
-        if a > 0.0 {
-            [p[0] / a, p[1] / a, p[2] / a, a]
-        } else {
-            [0.0; 4]
-        }
+        output_pixel(p, self.transparent)
     }
 
     /// The pixels as 8-bit RGBA ([`Framebuffer::output_pixel`]), clipped to [0, 1] and rounded
@@ -112,6 +104,21 @@ impl Framebuffer {
             )
         })?;
         Ok(v)
+    }
+}
+
+/// [`Framebuffer::output_pixel`] for a pixel of a framebuffer that is `transparent` or not: also
+/// for tiles not yet in a framebuffer, so that a window shows exactly what the file will hold.
+#[inline]
+pub fn output_pixel(p: &[f32; 4], transparent: bool) -> [f32; 4] {
+    if !transparent {
+        return [p[0], p[1], p[2], 1.0];
+    }
+    let a = p[3];
+    if a > 0.0 {
+        [p[0] / a, p[1] / a, p[2] / a, a]
+    } else {
+        [0.0; 4]
     }
 }
 

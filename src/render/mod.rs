@@ -51,7 +51,8 @@ use faces::{CellFaces, FaceHit};
 use footprint::footprint;
 use frame::{Backdrop, Frame};
 use gouraud::Fan;
-use raster::{Rect, rasterize, rasterize_convex, rasterize_convex_rows};
+pub use raster::Rect;
+use raster::{rasterize, rasterize_convex, rasterize_convex_rows};
 use runs::Runs;
 
 use crate::error::Error;
@@ -228,6 +229,42 @@ pub fn render_cancellable(
     progress: Option<&(dyn Fn(usize, usize) + Sync)>,
     cancel: &std::sync::atomic::AtomicBool,
 ) -> Result<(Framebuffer, Stats), Error> {
+    render_watched(
+        vol,
+        mapping,
+        view,
+        settings,
+        &Watch {
+            progress,
+            tile: None,
+            cancel,
+        },
+    )
+}
+
+/// A finished tile as [`Watch::tile`] sees it: where it lies in the image and its pixels, row by
+/// row (`rect.x1 − rect.x0` per row), as they will be in the framebuffer.
+pub type TileSink<'a> = &'a (dyn Fn(Rect, &[[f32; 4]]) + Sync);
+
+/// What a caller may see of, and do to, a render while it runs (from the render's threads).
+pub struct Watch<'a> {
+    /// `progress(done, total)` as tiles finish.
+    pub progress: Option<&'a (dyn Fn(usize, usize) + Sync)>,
+    /// Each finished tile, so that a window can show the picture growing (the thesis's `online`).
+    pub tile: Option<TileSink<'a>>,
+    /// Set from another thread to stop the render (see [`render_cancellable`]).
+    pub cancel: &'a std::sync::atomic::AtomicBool,
+}
+
+/// [`render_cancellable`] that also hands every finished tile to [`Watch::tile`].
+pub fn render_watched(
+    vol: &Volume,
+    mapping: &Mapping,
+    view: &View,
+    settings: &Settings,
+    watch: &Watch,
+) -> Result<(Framebuffer, Stats), Error> {
+    let (progress, cancel) = (watch.progress, watch.cancel);
     let started = Instant::now();
     let (width, height) = (settings.width, settings.height);
     check_size(width, height).map_err(Error::Invalid)?;
@@ -378,6 +415,9 @@ pub fn render_cancellable(
                 Method::InterpolateColor(m) => render_tile(&frame, m, o, pp, rect, list),
                 Method::Test(m) => render_tile(&frame, m, o, pp, rect, list),
             };
+            if let Some(sink) = watch.tile {
+                sink(rect, &out);
+            }
             {
                 let mut fb = fb.lock().unwrap_or_else(|e| e.into_inner());
                 let w = rect.x1 - rect.x0;

@@ -10,6 +10,7 @@
 mod commands;
 mod locate;
 pub mod tcl;
+pub mod tk;
 
 use std::cell::RefCell;
 use std::path::{Path, PathBuf};
@@ -85,6 +86,8 @@ pub struct Session {
     pub reporter: Box<dyn Reporter>,
     /// Files written by renders, in order.
     pub written: Vec<PathBuf>,
+    /// Tk for the `online` window and the viewer, loaded on first use.
+    pub display: crate::display::Display,
 }
 
 impl Session {
@@ -100,6 +103,7 @@ impl Session {
             lights: Vec::new(),
             reporter,
             written: Vec::new(),
+            display: crate::display::Display::default(),
         }
     }
 }

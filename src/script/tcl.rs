@@ -288,6 +288,12 @@ impl Interp {
         }
     }
 
+    /// The `Tcl_Interp*` for C calls into libraries Tcl loaded (Tk's photo images,
+    /// [`super::tk`]); valid while `self` lives, and only on this thread.
+    pub(crate) fn as_ptr(&self) -> *mut c_void {
+        self.raw as *mut c_void
+    }
+
     /// True if `script` is a complete command (balanced braces and quotes): for the prompt.
     pub fn complete(script: &str) -> bool {
         let c = cstring(script);

@@ -9,6 +9,7 @@ mod image;
 mod lights;
 mod maps;
 mod rendering;
+mod view;
 
 use std::path::{Path, PathBuf};
 
@@ -54,6 +55,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     rendering::METHOD,
     rendering::RENDER_BTF,
     rendering::RENDER_FTB,
+    view::VIEW,
     help::HELP,
 ];
 
@@ -72,6 +74,11 @@ impl<'a> Call<'a> {
             interp,
             words,
         }
+    }
+
+    /// The interpreter running the command (for Tk: the `online` window and the viewer).
+    pub fn interp(&self) -> &Interp {
+        self.interp
     }
 
     /// The arguments (without the command name).

@@ -2,12 +2,15 @@
 
 use std::io::{IsTerminal, Write};
 use std::sync::Mutex;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use super::{Call, CommandInfo};
-use crate::framebuffer::{format_for, numbered, write_image};
+use crate::display::online::show_while_rendering;
+use crate::display::{Window, rgba8};
+use crate::framebuffer::{Background, format_for, numbered, write_image};
 use crate::mapping::Mapping;
-use crate::render::{Method, Order, Settings, render};
+use crate::render::{Method, Order, Settings, TileSink, Watch, render_watched};
 use crate::script::Session;
 
 pub const METHOD: CommandInfo = CommandInfo {
@@ -65,19 +68,16 @@ impl Progress {
 
 fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, String> {
     c.expect(0..=1)?;
-    match c.args().first().map(String::as_str) {
-        None | Some("remote") => {}
-        Some("online") => s.reporter.warn(&format!(
-            "{}: online display is not available here; the image is written to the output file",
-            c.info.name
-        )),
+    let online = match c.args().first().map(String::as_str) {
+        None | Some("remote") => false,
+        Some("online") => true,
         Some(other) => {
             return Err(format!(
                 "{}: expected online or remote, found '{other}'",
                 c.info.name
             ));
         }
-    }
+    };
     let vol = s
         .volume
         .clone()
@@ -102,13 +102,64 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
     };
     let progress = Progress::new();
     let started = Instant::now();
-    let result = render(
-        &vol,
-        &mapping,
-        &s.view,
-        &settings,
-        Some(&|d, t| progress.update(d, t)),
+    let tk = if online {
+        match s.display.tk(c.interp()) {
+            Ok(tk) => Some(tk),
+            Err(first) => {
+                // Issue 14 Decision: one warning, the file only, the exit status unchanged.
+                if let Some(why) = first {
+                    s.reporter.warn(&format!(
+                        "{}: no window for 'online' ({}); the images are written to their files only",
+                        c.info.name,
+                        why.lines().next().unwrap_or_default()
+                    ));
+                }
+                None
+            }
+        }
+    } else {
+        None
+    };
+    let view = &s.view;
+    let run = |tile: Option<TileSink>| {
+        let cancel = AtomicBool::new(false);
+        let watch = Watch {
+            progress: Some(&|d, t| progress.update(d, t)),
+            tile,
+            cancel: &cancel,
+        };
+        render_watched(&vol, &mapping, view, &settings, &watch)
+    };
+    // A window that cannot be opened (e.g. the script destroyed Tk's main window) costs the
+    // picture on the screen, not the render: warn and write the file as without a display.
+    let window = tk.and_then(
+        |tk| match Window::open(tk, c.interp(), settings.width, settings.height) {
+            Ok(w) => Some(w),
+            Err(e) => {
+                s.reporter.warn(&format!(
+                    "{}: the online window cannot be opened ({e}); the image is written to its file only",
+                    c.info.name
+                ));
+                None
+            }
+        },
     );
+    let result = match window {
+        Some(window) => {
+            let transparent = matches!(settings.background, Background::None);
+            let result = show_while_rendering(&window, transparent, |sink| run(Some(sink)))
+                .map_err(|e| format!("{}: {e}", c.info.name))?;
+            // The tiles covered the image; the whole frame once more makes sure the window
+            // holds exactly the file's pixels.
+            if let Ok((fb, _)) = &result {
+                // Only fails if the photo image was deleted meanwhile: nothing left to show.
+                let _ = window.put_all(&rgba8(&fb.pixels, fb.transparent));
+                window.update();
+            }
+            result
+        }
+        None => run(None),
+    };
     progress.clear();
     let (fb, stats) = result.map_err(|e| format!("{}: {e}", c.info.name))?;
     let seconds = started.elapsed().as_secs_f64();
@@ -174,7 +225,7 @@ pub const RENDER_BTF: CommandInfo = CommandInfo {
     name: "render_btf",
     usage: "?online|remote?",
     summary: "render back to front and write the next numbered image; prints the file, size, cells, seconds and the largest channel value",
-    details: "The largest R/G/B value helps tune the brightness factor: above 1, 8-bit formats clip.",
+    details: "The largest R/G/B value helps tune the brightness factor: above 1, 8-bit formats clip. 'online' also shows the image in a window titled VoRANG while it renders (1:1, reused by the next online render; Tk and a display needed — without them one warning, and the file is written as always).",
     run: |s: &mut Session, c: &Call| render_command(s, c, Order::BackToFront),
 };
 

@@ -1,0 +1,384 @@
+//! The interactive viewer (issue 14): `vorang view FILE` and the `view` script command.
+//!
+//! One thread runs Tcl and Tk (Tk is single-threaded): it builds the window, turns Tk's mouse
+//! and key events — collected by Tcl bindings into a list variable — into changes of the
+//! [`Orbit`], and puts finished frames into the photo. Renders run on a thread of their own,
+//! one at a time: while the view moves, a fast preview (`interpolateColor` at reduced
+//! resolution, scaled up); once it has been still for [`SETTLE`], the chosen method at full
+//! size, its tiles shown over the preview as they finish. A refined frame made stale by a change
+//! is cancelled through the renderer's cancel flag, so the window follows the mouse and never
+//! waits for a frame nobody will see.
+
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::mpsc;
+use std::time::{Duration, Instant};
+
+use super::commands;
+use super::controls::{self, Action, Controls, parse_event};
+use super::frames::{self, Done, Job, Tile};
+use super::legend::{self, Legend};
+use super::orbit::Orbit;
+use super::rgba8;
+use crate::framebuffer::{Framebuffer, format_for, numbered, write_image};
+use crate::mapping::Mapping;
+use crate::render::approx::InterpolateColor;
+use crate::render::{CANCELLED, Method, Order, Settings};
+use crate::script::Session;
+use crate::script::tcl::Interp;
+use crate::script::tk::Tk;
+
+/// How long the view must stay still before the chosen method refines the preview.
+pub const SETTLE: Duration = Duration::from_millis(150);
+/// How often the Tcl thread looks for events and frames.
+const POLL: Duration = Duration::from_millis(8);
+/// The preview has at most about this many pixels.
+const PREVIEW_PIXELS: usize = 192 * 192;
+
+const TOPLEVEL: &str = ".vorang_view";
+const PHOTO: &str = "vorang_view";
+const LEGEND: &str = "vorang_legend";
+const EVENTS: &str = "::vorang::view_events";
+
+/// The reduction of the preview: at least 2, more for large images.
+pub fn preview_factor(width: usize, height: usize) -> usize {
+    let f = ((width * height) as f64 / PREVIEW_PIXELS as f64)
+        .sqrt()
+        .ceil() as usize;
+    f.max(2)
+}
+
+/// The window: image, legend, status line; bindings that append events to [`EVENTS`].
+fn open_window(interp: &Interp, width: usize, height: usize) -> Result<(), String> {
+    let script = format!(
+        r#"
+        namespace eval ::vorang {{ variable view_events {{}}; variable view_status {{}}; variable view_range {{}} }}
+        catch {{ destroy {TOPLEVEL} }}
+        foreach p {{{PHOTO} {LEGEND}}} {{ if {{[lsearch -exact [image names] $p] < 0}} {{ image create photo $p }} }}
+        {PHOTO} blank
+        {PHOTO} configure -width {width} -height {height}
+        {LEGEND} blank
+        {LEGEND} configure -width {width} -height {lh}
+        toplevel {TOPLEVEL} -borderwidth 0 -highlightthickness 0
+        wm title {TOPLEVEL} {{VoRANG view}}
+        label {TOPLEVEL}.image -image {PHOTO} -borderwidth 0 -highlightthickness 0 -padx 0 -pady 0
+        label {TOPLEVEL}.legend -image {LEGEND} -borderwidth 0 -highlightthickness 0 -padx 0 -pady 0
+        label {TOPLEVEL}.range -textvariable ::vorang::view_range -anchor w -justify left -font TkSmallCaptionFont -wraplength {wrap}
+        label {TOPLEVEL}.status -textvariable ::vorang::view_status -anchor w -justify left -font TkSmallCaptionFont -wraplength {wrap}
+        pack {TOPLEVEL}.image {TOPLEVEL}.legend -side top -anchor nw
+        pack {TOPLEVEL}.range {TOPLEVEL}.status -side top -fill x
+        set w {TOPLEVEL}.image
+        bind $w <ButtonPress-1> {{lappend {EVENTS} [list press %x %y %s]}}
+        bind $w <B1-Motion> {{lappend {EVENTS} [list motion %x %y]}}
+        bind $w <ButtonRelease-1> {{lappend {EVENTS} release}}
+        bind $w <MouseWheel> {{lappend {EVENTS} [list wheel %D]}}
+        bind $w <Button-4> {{lappend {EVENTS} {{wheel 120}}}}
+        bind $w <Button-5> {{lappend {EVENTS} {{wheel -120}}}}
+        bind {TOPLEVEL} <KeyPress> {{lappend {EVENTS} [list key %K]}}
+        wm protocol {TOPLEVEL} WM_DELETE_WINDOW {{lappend {EVENTS} {{key q}}}}
+        update idletasks
+        focus -force {TOPLEVEL}
+        "#,
+        lh = legend::HEIGHT,
+        // Text wraps at the image's width, so that the window is as wide as the image.
+        wrap = width.max(240)
+    );
+    interp.eval(&script).map(|_| ()).map_err(|e| e.message)
+}
+
+/// Nearest-neighbour enlargement of a preview to the window's size.
+fn enlarge(small: &[u8], sw: usize, sh: usize, width: usize, height: usize) -> Vec<u8> {
+    let mut out = Vec::with_capacity(width * height * 4);
+    for y in 0..height {
+        let sy = (y * sh / height).min(sh - 1);
+        for x in 0..width {
+            let sx = (x * sw / width).min(sw - 1);
+            out.extend_from_slice(&small[(sy * sw + sx) * 4..][..4]);
+        }
+    }
+    out
+}
+
+/// Shows `rgba` (the window's size) in the image.
+fn show(tk: &Tk, interp: &Interp, (width, height): (usize, usize), rgba: &[u8]) {
+    // A failure here (out of memory in Tk) leaves the old picture: nothing else to do.
+    let _ = tk.put(interp, PHOTO, (0, 0), (width, height), rgba);
+}
+
+/// Runs the viewer on the session's scene until the user quits (`q`, or closing the window).
+/// The session keeps the final view and method, so a render after `view` shows what the
+/// viewer showed.
+pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
+    let vol = s
+        .volume
+        .clone()
+        .ok_or("view: no volume loaded: use 'volume file' first")?;
+    let (mapping, warnings) =
+        Mapping::new(&s.colormap, &s.alphamap, &vol).map_err(|e| e.to_string())?;
+    for w in warnings {
+        s.reporter.warn(&w.to_string());
+    }
+    let tk = match s.display.tk(interp) {
+        Ok(tk) => *tk,
+        Err(why) => {
+            return Err(format!(
+                "view: no window can be opened{}",
+                why.map(|w| format!(" ({})", w.lines().next().unwrap_or_default()))
+                    .unwrap_or_default()
+            ));
+        }
+    };
+    let (width, height) = (s.settings.width, s.settings.height);
+    let mut orbit = Orbit::new(&s.view, &vol, width, height)?;
+    let mut method = s.settings.method;
+    open_window(interp, width, height).map_err(|e| format!("view: {e}"))?;
+    match legend::legend(&mapping, &vol, width) {
+        Some(Legend {
+            rgba,
+            min,
+            max,
+            chi_max,
+            ..
+        }) => {
+            let _ = tk.put(interp, LEGEND, (0, 0), (width, legend::HEIGHT), &rgba);
+            interp.set_var(
+                "::vorang::view_range",
+                &format!("{min:.4} … {max:.4}   (colour: η scaled; bars: χ up to {chi_max:.3})"),
+            );
+        }
+        None => {
+            interp.set_var(
+                "::vorang::view_range",
+                "no legend: the maps are not a function of one scalar field",
+            );
+            let _ = interp.eval(&format!("pack forget {TOPLEVEL}.legend"));
+        }
+    }
+    let factor = preview_factor(width, height);
+    let cells = vol.mesh.tet_count();
+
+    let (job_send, job_receive) = mpsc::channel::<Job>();
+    let (done_send, done_receive) = mpsc::channel::<Done>();
+    // A refined frame's tiles as they finish: shown over the preview, so a slow method visibly
+    // makes progress (the thesis's `online` picture).
+    let (tile_send, tile_receive) = mpsc::channel::<Tile>();
+    std::thread::scope(|scope| {
+        let (vol, mapping) = (&vol, &mapping);
+        scope.spawn(move || frames::render(vol, mapping, job_receive, done_send, tile_send));
+
+        let mut generation = 0u64;
+        let mut changed_at = Instant::now();
+        // The job being rendered: its generation, kind and cancel flag.
+        let mut in_flight: Option<(u64, bool, Arc<AtomicBool>)> = None;
+        let mut shown: Option<(u64, bool)> = None;
+        let mut refined: Option<(u64, Framebuffer)> = None;
+        let mut controls = Controls::default();
+        let (mut save, mut quit) = (false, false);
+        let (mut preview_ms, mut refined_ms) = (f64::NAN, f64::NAN);
+        let mut error: Option<String> = None;
+        // Frame times in seconds (previews, refined), for the VORANG_TIMING summary.
+        let mut times: (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
+        let result = loop {
+            interp.eval("update").ok();
+            if interp
+                .eval(&format!("winfo exists {TOPLEVEL}"))
+                .is_ok_and(|v| v != "1")
+            {
+                quit = true;
+                save = false;
+            }
+            let events = interp
+                .eval(&format!("set e ${EVENTS}; set {EVENTS} {{}}; set e"))
+                .unwrap_or_default();
+            let mut moved = false;
+            for e in interp.split_list(&events).unwrap_or_default() {
+                let Some(input) = parse_event(interp, &e) else {
+                    continue;
+                };
+                match controls.apply(input, &mut orbit, &mut method) {
+                    Action::None => {}
+                    Action::Moved => moved = true,
+                    Action::Save => save = true,
+                    Action::Print => {
+                        let lines = commands::commands(
+                            &orbit.view(),
+                            &method,
+                            &s.settings.lines,
+                            (width, height),
+                        );
+                        s.reporter.info(&format!(
+                            "# view: the commands for this image (after loading the volume and maps)\n{}",
+                            lines.join("\n")
+                        ));
+                    }
+                    Action::Quit => quit = true,
+                }
+            }
+            if moved {
+                // A new view may well render where the last one failed (e.g. a method's step).
+                error = None;
+                generation += 1;
+                changed_at = Instant::now();
+                if let Some((_, true, cancel)) = &in_flight {
+                    cancel.store(true, Ordering::Relaxed);
+                }
+            }
+            while let Ok((g, rect, rgba)) = tile_receive.try_recv() {
+                if g == generation && shown != Some((g, true)) {
+                    let size = (rect.x1 - rect.x0, rect.y1 - rect.y0);
+                    let _ = tk.put(interp, PHOTO, (rect.x0, rect.y0), size, &rgba);
+                }
+            }
+            while let Ok(done) = done_receive.try_recv() {
+                if in_flight
+                    .as_ref()
+                    .is_some_and(|f| (f.0, f.1) == (done.generation, done.refined))
+                {
+                    in_flight = None;
+                }
+                let fb = match done.frame {
+                    Ok(fb) => fb,
+                    Err(e) if e == CANCELLED => continue,
+                    Err(e) => {
+                        error = Some(e);
+                        continue;
+                    }
+                };
+                if done.refined && done.generation != generation {
+                    continue;
+                }
+                let rgba = rgba8(&fb.pixels, fb.transparent);
+                if done.refined {
+                    show(&tk, interp, (width, height), &rgba);
+                    refined_ms = done.seconds * 1e3;
+                    times.1.push(done.seconds);
+                    refined = Some((done.generation, fb));
+                } else {
+                    let big = enlarge(&rgba, fb.width, fb.height, width, height);
+                    show(&tk, interp, (width, height), &big);
+                    preview_ms = done.seconds * 1e3;
+                    times.0.push(done.seconds);
+                }
+                shown = Some((done.generation, done.refined));
+                error = None;
+            }
+            if let Some((_, fb)) = refined.as_ref().filter(|(g, _)| save && *g == generation) {
+                save = false;
+                if let Err(e) = save_image(s, fb) {
+                    s.reporter.warn(&format!("view: {e}"));
+                }
+            }
+            // A save waits for the refined frame, unless that cannot be rendered.
+            if quit && (!save || error.is_some()) {
+                break Ok(String::new());
+            }
+            if in_flight.is_none() && error.is_none() {
+                let refine = matches!(shown, Some((g, false)) if g == generation)
+                    && changed_at.elapsed() >= SETTLE;
+                let preview = shown.is_none_or(|(g, _)| g != generation);
+                if preview || refine {
+                    let mut settings = Settings {
+                        method,
+                        order: Order::BackToFront,
+                        ..s.settings.clone()
+                    };
+                    if preview {
+                        settings.method = Method::InterpolateColor(InterpolateColor {
+                            brightness: controls::brightness(&method),
+                        });
+                        settings.width = width.div_ceil(factor);
+                        settings.height = height.div_ceil(factor);
+                    }
+                    let cancel = Arc::new(AtomicBool::new(false));
+                    in_flight = Some((generation, refine, Arc::clone(&cancel)));
+                    let job = Job {
+                        generation,
+                        refined: refine,
+                        view: orbit.view(),
+                        settings,
+                        cancel,
+                    };
+                    if job_send.send(job).is_err() {
+                        break Err("view: the render thread stopped".to_string());
+                    }
+                }
+            }
+            let ms = |v: f64| {
+                if v.is_nan() {
+                    "–".to_string()
+                } else {
+                    format!("{v:.0} ms")
+                }
+            };
+            let state = match (&error, shown) {
+                (Some(e), _) => format!("error: {e}"),
+                (None, Some((g, true))) if g == generation => "refined".to_string(),
+                _ => "preview".to_string(),
+            };
+            interp.set_var(
+                "::vorang::view_status",
+                &format!(
+                    "{}  ·  {cells} cells  ·  {state}  ·  preview {} (1/{factor} size), refined {}\ndrag: turn · shift-drag: pan · wheel: zoom · 1–4 method · +/− brightness · r reset · s save · p print · q quit",
+                    commands::method_command(&method).trim_start_matches("method "),
+                    ms(preview_ms),
+                    ms(refined_ms)
+                ),
+            );
+            std::thread::sleep(POLL);
+        };
+        if let Some((_, _, cancel)) = &in_flight {
+            cancel.store(true, Ordering::Relaxed);
+        }
+        drop(job_send);
+        let _ = interp.eval(&format!("catch {{destroy {TOPLEVEL}}}; update"));
+        if std::env::var_os("VORANG_TIMING").is_some() {
+            let (pw, ph) = (width.div_ceil(factor), height.div_ceil(factor));
+            s.reporter.info(&format!(
+                "view: {} previews {pw}×{ph} interpolateColor: {}; {} refined {width}×{height} {}: {}",
+                times.0.len(),
+                summary(&mut times.0),
+                times.1.len(),
+                commands::method_command(&method).trim_start_matches("method "),
+                summary(&mut times.1)
+            ));
+        }
+        s.view = orbit.view();
+        s.settings.method = method;
+        result
+    })
+}
+
+/// "median 41 ms (24.4 frames/s), 35…60 ms" of frame times in seconds.
+fn summary(times: &mut [f64]) -> String {
+    if times.is_empty() {
+        return "none".into();
+    }
+    times.sort_by(f64::total_cmp);
+    let median = times[times.len() / 2];
+    format!(
+        "median {:.0} ms ({:.1} frames/s), {:.0}…{:.0} ms",
+        median * 1e3,
+        1.0 / median,
+        times[0] * 1e3,
+        times[times.len() - 1] * 1e3
+    )
+}
+
+/// Writes `fb` as the next numbered image, as a render would.
+fn save_image(s: &mut Session, fb: &Framebuffer) -> Result<(), String> {
+    if s.next_number == u32::MAX {
+        return Err("the image numbers are used up: use 'set_nr' to start again".into());
+    }
+    let path = numbered(&s.output, s.next_number);
+    format_for(&path).map_err(|e| e.to_string())?;
+    write_image(fb, &path).map_err(|e| e.to_string())?;
+    s.next_number += 1;
+    s.reporter.info(&format!(
+        "{}  {}×{}  saved from the viewer",
+        crate::script::locate_display(&path),
+        fb.width,
+        fb.height
+    ));
+    s.written.push(path);
+    Ok(())
+}
