@@ -203,6 +203,7 @@ fn build(
         cells,
         point_arrays,
         cell_arrays,
+        field_arrays: Vec::new(),
         points_line: 1,
         cells_line: 1,
         warnings: Vec::new(),

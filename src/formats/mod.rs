@@ -15,6 +15,7 @@
 //! content no reader recognises gets a clear error naming the formats tried.
 
 pub mod build;
+pub mod layout;
 pub mod msh;
 mod text;
 pub mod vtk_legacy;
@@ -166,6 +167,9 @@ pub struct MeshDescription {
     pub point_arrays: Vec<Array>,
     /// Cell arrays in file order (one value per cell of [`Cells`], all cell types).
     pub cell_arrays: Vec<Array>,
+    /// Dataset-level arrays of any length (VTK `<FieldData>`): only those VoRANG writes
+    /// ([`layout`]) are read.
+    pub field_arrays: Vec<Array>,
     /// The line of the points and of the cells, for messages about them.
     pub points_line: usize,
     pub cells_line: usize,

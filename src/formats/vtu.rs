@@ -21,17 +21,15 @@
 //! Writing ([`save`]) produces what ParaView reads fastest: appended raw data, zlib-compressed,
 //! `UInt64` headers, little-endian.
 
-use std::collections::HashMap;
 use std::io::Write as _;
 use std::path::Path;
 
 use base64::Engine as _;
 use quick_xml::events::{BytesStart, Event};
 
-use super::{Array, ArrayValues, MeshDescription, cell_type, line_of};
+use super::{Array, ArrayValues, MeshDescription, cell_type, layout, line_of};
 use crate::error::{Error, ParseError, Warning};
-use crate::field::Interpolator;
-use crate::hypermesh::{ElementKind, ScalarType, Values};
+use crate::hypermesh::{ScalarType, Values};
 use crate::volume::Volume;
 
 pub fn sniff(head: &[u8]) -> bool {
@@ -96,6 +94,8 @@ enum Section {
     CellData,
     Points,
     Cells,
+    /// Dataset-level arrays (`<FieldData>`); only VoRANG's own (`VoRANG_…`) are read.
+    FieldData,
 }
 
 /// One `<DataArray>` as declared.
@@ -107,6 +107,8 @@ struct Decl {
     ty: NumType,
     components: usize,
     format: DataFormat,
+    /// `NumberOfTuples` (FieldData arrays say how long they are).
+    tuples: Option<usize>,
     line: usize,
     /// Inline content (ascii numbers or base64 text).
     text: Vec<u8>,
@@ -283,7 +285,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                     b"CellData" if !empty => section = Section::CellData,
                     b"Points" if !empty => section = Section::Points,
                     b"Cells" if !empty => section = Section::Cells,
-                    b"FieldData" if !empty => section = Section::Other,
+                    b"FieldData" if !empty => section = Section::FieldData,
                     b"DataArray" => {
                         let line = line_of(bytes, pos);
                         let ty_s = attr(e, b"type").unwrap_or_default();
@@ -327,6 +329,8 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                             ty,
                             components,
                             format,
+                            tuples: attr(e, b"NumberOfTuples")
+                                .and_then(|t| t.trim().parse::<usize>().ok()),
                             line,
                             text: Vec::new(),
                         };
@@ -668,6 +672,27 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                 }
             }
         }
+    }
+    // VoRANG's own FieldData arrays (its layout, edges, triangles, data on them); other
+    // FieldData (time values, provenance) are not per point or cell and are not read.
+    for d in decls
+        .iter()
+        .filter(|d| d.section == Section::FieldData && d.name.starts_with("VoRANG_"))
+    {
+        let tuples = d.tuples.ok_or_else(|| {
+            ParseError::new(
+                name,
+                d.line,
+                format!("FieldData array \"{}\" needs NumberOfTuples", d.name),
+            )
+        })?;
+        let v = decode(&settings, d, tuples.saturating_mul(d.components))?;
+        desc.field_arrays.push(Array {
+            name: d.name.clone(),
+            components: d.components,
+            values: v,
+            line: d.line,
+        });
     }
     for (i, a) in desc
         .point_arrays
@@ -1309,6 +1334,8 @@ struct OutArray {
     name: String,
     ty: &'static str,
     components: usize,
+    /// `NumberOfTuples`, written for FieldData arrays.
+    tuples: Option<usize>,
     data: Vec<u8>,
 }
 
@@ -1316,14 +1343,25 @@ fn le<T: Copy>(v: &[T], f: impl Fn(T) -> Vec<u8>) -> Vec<u8> {
     v.iter().flat_map(|&x| f(x)).collect()
 }
 
-fn values_out(values: &Values) -> Option<(&'static str, Vec<u8>)> {
-    Some(match values {
+fn values_out(values: &Values) -> (&'static str, Vec<u8>) {
+    match values {
         Values::U8(v) => ("UInt8", v.clone()),
         Values::I16(v) => ("Int16", le(v, |x| x.to_le_bytes().to_vec())),
         Values::I32(v) => ("Int32", le(v, |x| x.to_le_bytes().to_vec())),
         Values::F32(v) => ("Float32", le(v, |x| x.to_le_bytes().to_vec())),
         Values::F64(v) => ("Float64", le(v, |x| x.to_le_bytes().to_vec())),
-    })
+    }
+}
+
+fn out_array(a: layout::NamedValues, field_data: bool) -> OutArray {
+    let (ty, data) = values_out(&a.values);
+    OutArray {
+        tuples: field_data.then(|| a.values.len() / a.components.max(1)),
+        name: a.name,
+        ty,
+        components: a.components,
+        data,
+    }
 }
 
 fn xml_escape(s: &str) -> String {
@@ -1331,13 +1369,16 @@ fn xml_escape(s: &str) -> String {
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
+        .replace('\n', "&#10;")
+        .replace('\r', "&#13;")
+        .replace('\t', "&#9;")
 }
 
-/// Writes a volume as `.vtu`: Linear fields as point arrays, Constant fields as cell arrays
-/// (each with the field's name, or `field<n>`), tetrahedra as VTK type 10. Fields of other
-/// interpolators have no VTK counterpart and are left out with a warning.
+/// Writes a volume as `.vtu`: every node data block as a point array and every cell data
+/// block as a cell array (named after the first field that uses it), tetrahedra as VTK type
+/// 10, and VoRANG's layout ([`layout`]) in `<FieldData>`, so that the file reads back as the
+/// identical volume. Nothing is left out, so the warnings are always empty.
 pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec<Warning>> {
-    let mut warnings = Vec::new();
     let m = &vol.mesh;
     let points = if vol.coord_type == ScalarType::Float
         && m.nodes()
@@ -1349,6 +1390,7 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
             name: "Points".into(),
             ty: "Float32",
             components: 3,
+            tuples: None,
             data: m
                 .nodes()
                 .iter()
@@ -1361,6 +1403,7 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
             name: "Points".into(),
             ty: "Float64",
             components: 3,
+            tuples: None,
             data: m
                 .nodes()
                 .iter()
@@ -1373,6 +1416,7 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
         name: "connectivity".into(),
         ty: "Int64",
         components: 1,
+        tuples: None,
         data: m
             .tets()
             .iter()
@@ -1384,6 +1428,7 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
         name: "offsets".into(),
         ty: "Int64",
         components: 1,
+        tuples: None,
         data: (1..=m.tet_count() as i64)
             .flat_map(|k| (4 * k).to_le_bytes())
             .collect(),
@@ -1392,57 +1437,31 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
         name: "types".into(),
         ty: "UInt8",
         components: 1,
+        tuples: None,
         data: vec![cell_type::TETRA; m.tet_count()],
     };
-    let mut point_data = Vec::new();
-    let mut cell_data = Vec::new();
-    let mut used_names: HashMap<String, usize> = HashMap::new();
-    for (i, f) in vol.data.fields.iter().enumerate() {
-        let raw = &vol.data.raw[f.sources[0]];
-        let dest = match (f.interpolator, raw.kind) {
-            (Interpolator::Linear, ElementKind::Node) => &mut point_data,
-            (Interpolator::Constant, ElementKind::Tetrahedron) => &mut cell_data,
-            _ => {
-                warnings.push(Warning {
-                    file: vol.source.clone(),
-                    line: None,
-                    message: format!(
-                        "field {i} ({}) is left out of the .vtu file: only Linear (point) and Constant (cell) fields have a VTK counterpart",
-                        f.interpolator.name()
-                    ),
-                });
-                continue;
-            }
-        };
-        if raw.ty.scalar == ScalarType::Complex {
-            warnings.push(Warning {
-                file: vol.source.clone(),
-                line: None,
-                message: format!("field {i} is complex and is left out of the .vtu file"),
-            });
-            continue;
-        }
-        let Some((ty, data)) = values_out(&raw.values) else {
-            continue;
-        };
-        let mut name = f.name.clone().unwrap_or_else(|| format!("field{i}"));
-        let n = used_names.entry(name.clone()).or_default();
-        *n += 1;
-        if *n > 1 {
-            name = format!("{name}_{i}");
-        }
-        dest.push(OutArray {
-            name,
-            ty,
-            components: raw.ty.components(),
-            data,
-        });
-    }
+    let parts = layout::parts(vol);
+    let point_data: Vec<OutArray> = parts
+        .point_arrays
+        .into_iter()
+        .map(|a| out_array(a, false))
+        .collect();
+    let cell_data: Vec<OutArray> = parts
+        .cell_arrays
+        .into_iter()
+        .map(|a| out_array(a, false))
+        .collect();
+    let field_data: Vec<OutArray> = parts
+        .field_arrays
+        .into_iter()
+        .map(|a| out_array(a, true))
+        .collect();
 
     // Compress everything first: the offsets in the XML depend on the compressed sizes.
     let mut blobs: Vec<Vec<u8>> = Vec::new();
-    let order: Vec<&OutArray> = point_data
+    let order: Vec<&OutArray> = field_data
         .iter()
+        .chain(point_data.iter())
         .chain(cell_data.iter())
         .chain([&points, &conn, &offsets, &types])
         .collect();
@@ -1461,8 +1480,11 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
         } else {
             String::new()
         };
+        let tuples = a
+            .tuples
+            .map_or(String::new(), |t| format!(" NumberOfTuples=\"{t}\""));
         format!(
-            "        <DataArray type=\"{}\" Name=\"{}\"{comps} format=\"appended\" offset=\"{off}\"/>\n",
+            "        <DataArray type=\"{}\" Name=\"{}\"{comps}{tuples} format=\"appended\" offset=\"{off}\"/>\n",
             a.ty,
             xml_escape(&a.name)
         )
@@ -1471,12 +1493,18 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
     x.push_str("<?xml version=\"1.0\"?>\n");
     x.push_str("<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n");
     x.push_str("  <UnstructuredGrid>\n");
+    let mut k = 0;
+    x.push_str("    <FieldData>\n");
+    for a in &field_data {
+        x.push_str(&decl(a, offs[k]));
+        k += 1;
+    }
+    x.push_str("    </FieldData>\n");
     x.push_str(&format!(
         "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n",
         m.node_count(),
         m.tet_count()
     ));
-    let mut k = 0;
     x.push_str("      <PointData>\n");
     for a in &point_data {
         x.push_str(&decl(a, offs[k]));
@@ -1502,7 +1530,7 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
         out.write_all(b)?;
     }
     out.write_all(b"\n  </AppendedData>\n</VTKFile>\n")?;
-    Ok(warnings)
+    Ok(Vec::new())
 }
 
 /// VTK's block size for compressed arrays.

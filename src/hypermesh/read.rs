@@ -94,6 +94,80 @@ pub fn read<R: BufRead>(
     })
 }
 
+/// Reads a HyperMesh header held as text whose blocks are stored elsewhere (the layout that
+/// VoRANG writes into its `.vtu` files, [`crate::formats::layout`]): `block(decl, count)` gives
+/// the values of each declared block (`count` elements of `decl.ty`), or says why it cannot.
+/// The geometry, raw data and fields are then resolved exactly as for a file, so a volume
+/// written this way reads back identical. Every message points at `line` (where the text is
+/// stored in its file) and says which line of the text it is about.
+pub fn read_with_blocks(
+    name: &str,
+    text: &[u8],
+    line: usize,
+    mut block: impl FnMut(&BlockDecl, usize) -> Result<Values, String>,
+) -> Result<HyperMeshFile, ParseError> {
+    let at = |e: ParseError| {
+        ParseError::new(
+            name,
+            line,
+            format!("VoRANG layout, line {}: {}", e.line, e.message),
+        )
+    };
+    let mut lines = text.split(|&b| b == b'\n');
+    let (encoding, version) = parse_title(name, lines.next().unwrap_or_default()).map_err(at)?;
+    let mut parser = HeaderParser::new(name);
+    for (i, l) in lines.enumerate() {
+        parser.push_line(i + 2, l).map_err(at)?;
+    }
+    let header = parser.finish(encoding, version).map_err(at)?;
+    let field_blocks = resolve_field_markers(name, &header).map_err(at)?;
+    let mut blocks = Vec::with_capacity(header.blocks.len());
+    for d in &header.blocks {
+        let count = block_count(name, &header, d).map_err(at)?;
+        let values = block(d, count).map_err(|m| {
+            ParseError::new(
+                name,
+                line,
+                format!(
+                    "VoRANG layout, block @{} ({}): {m}",
+                    d.marker,
+                    d.target.describe()
+                ),
+            )
+        })?;
+        if values.len() != count.saturating_mul(d.ty.numbers()) {
+            return Err(ParseError::new(
+                name,
+                line,
+                format!(
+                    "VoRANG layout, block @{} ({}): {} numbers, but {count} × {} need {}",
+                    d.marker,
+                    d.target.describe(),
+                    values.len(),
+                    d.ty,
+                    count.saturating_mul(d.ty.numbers())
+                ),
+            ));
+        }
+        blocks.push(Some(Block {
+            values,
+            rows: None,
+            marker_line: line,
+        }));
+    }
+    let mut warnings = Vec::new();
+    let geometry = resolve_geometry(name, &header, &mut blocks, &mut warnings)?;
+    let data = resolve_data(name, &header, &mut blocks, &field_blocks)?;
+    Ok(HyperMeshFile {
+        name: name.to_string(),
+        encoding: header.encoding,
+        version: header.version,
+        geometry,
+        data,
+        warnings,
+    })
+}
+
 /// The values of one block and where its rows are.
 struct Block {
     values: Values,
