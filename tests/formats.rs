@@ -177,6 +177,23 @@ fn fields_are_numbered_point_arrays_first_then_cell_arrays_in_file_order() {
     );
     assert_eq!(vol.field(1).unwrap().components(), 3);
     assert!(vol.field(2).unwrap().is_byte_constant(&vol));
+    // 3-component arrays are float[3] (HyperMesh's vector type), whatever the file stores.
+    let float3 = vorang::hypermesh::DataType::array(vorang::hypermesh::ScalarType::Float, 3);
+    for f in all_cube_files() {
+        if f.extension().is_some_and(|e| e == "hmesh") {
+            continue;
+        }
+        let (v, _) = Volume::load(&f).unwrap();
+        let velocity = v
+            .data
+            .fields
+            .iter()
+            .find(|x| x.name.as_deref() == Some("velocity"));
+        if let Some(velocity) = velocity {
+            assert_eq!(velocity.ty, float3, "{}", f.display());
+            assert_eq!(v.data.raw[velocity.sources[0]].ty, float3);
+        }
+    }
     // Gmsh: physical groups as an integer cell field, float-coded material ids as bytes.
     let (msh, _) = Volume::load(&data("cube_22_ascii.msh")).unwrap();
     let names: Vec<&str> = msh

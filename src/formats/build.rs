@@ -22,7 +22,8 @@
 //! Integer arrays become `int` data, except scalar integer *cell* arrays whose values all lie
 //! in 0…255: those are `byte`, so that `CONST_CELL`, `CategoryField` and `linedraw` take them
 //! (material ids, Gmsh physical groups). Float32 data stay `float`, everything else `double`;
-//! arrays of `n` > 1 components are `type[n]`. Names are kept.
+//! arrays of `n` > 1 components are `type[n]`, except that 3-component arrays are `float[3]`,
+//! HyperMesh's vector type (values rounded to `float`). Names are kept.
 
 use std::collections::HashMap;
 
@@ -323,13 +324,24 @@ pub fn volume(mut desc: MeshDescription) -> Result<(Volume, Vec<Warning>), Parse
                     })),
                 }
             }
+            // Vectors stay float[3]; everything else becomes double (the mid-edge means).
+            let vector = ty == DataType::array(ScalarType::Float, 3);
             let edge_ty = DataType {
-                scalar: ScalarType::Double,
+                scalar: if vector {
+                    ScalarType::Float
+                } else {
+                    ScalarType::Double
+                },
                 array: ty.array,
             };
             let node_values = match values {
-                Values::F32(v) => Values::F64(v.into_iter().map(f64::from).collect()),
+                Values::F32(v) if !vector => Values::F64(v.into_iter().map(f64::from).collect()),
                 other => other,
+            };
+            let mid = if vector {
+                Values::F32(mid.into_iter().map(|x| x as f32).collect())
+            } else {
+                Values::F64(mid)
             };
             data.raw.push(RawData {
                 kind: ElementKind::Node,
@@ -341,7 +353,7 @@ pub fn volume(mut desc: MeshDescription) -> Result<(Volume, Vec<Warning>), Parse
                 kind: ElementKind::Edge,
                 ty: edge_ty,
                 denominator: None,
-                values: Values::F64(mid),
+                values: mid,
             });
             data.fields.push(Field {
                 name: Some(a.name),
@@ -462,8 +474,32 @@ fn data_type(scalar: ScalarType, components: usize) -> DataType {
     }
 }
 
-/// Point data: float stays float, integers that fit in `int` become int, the rest double.
+/// 3-component arrays (velocities, displacements, colours) are `float[3]`, the vector type of
+/// HyperMesh (SPEC §7, §8: EdgeElem gives float[3], IDENTITY takes float[3]): values are
+/// rounded to the nearest `float`. An array with a value beyond `float`'s range (±3.4e38)
+/// keeps its type rather than turning into infinities.
+fn as_float3(ty: DataType, values: Values) -> (DataType, Values) {
+    if ty.components() != 3 || ty.scalar == ScalarType::Float {
+        return (ty, values);
+    }
+    let n = values.len();
+    if (0..n).any(|i| values.get(i).abs() > f64::from(f32::MAX)) {
+        return (ty, values);
+    }
+    (
+        DataType::array(ScalarType::Float, 3),
+        Values::F32((0..n).map(|i| values.get(i) as f32).collect()),
+    )
+}
+
+/// Point data: float stays float, integers that fit in `int` become int, the rest double;
+/// 3-component arrays are `float[3]` ([`as_float3`]).
 fn point_values(v: &ArrayValues, components: usize) -> (DataType, Values) {
+    let (ty, values) = point_values_as_stored(v, components);
+    as_float3(ty, values)
+}
+
+fn point_values_as_stored(v: &ArrayValues, components: usize) -> (DataType, Values) {
     match v {
         ArrayValues::F32(x) => (
             data_type(ScalarType::Float, components),
@@ -496,8 +532,14 @@ fn int_values(x: &[i64], components: usize, allow_byte: bool) -> (DataType, Valu
     )
 }
 
-/// Cell data, one row per tetrahedron (its parent cell's row).
+/// Cell data, one row per tetrahedron (its parent cell's row); 3-component arrays are
+/// `float[3]` ([`as_float3`]).
 fn cell_values(v: &ArrayValues, n: usize, parent: &[u32]) -> (DataType, Values) {
+    let (ty, values) = cell_values_as_stored(v, n, parent);
+    as_float3(ty, values)
+}
+
+fn cell_values_as_stored(v: &ArrayValues, n: usize, parent: &[u32]) -> (DataType, Values) {
     let pick = |i: usize| (0..n).map(move |c| (parent[i] as usize) * n + c);
     match v {
         ArrayValues::F32(x) => (
@@ -544,6 +586,20 @@ mod tests {
         tets.iter()
             .map(|t| tet_volume(p[t[0]], p[t[1]], p[t[2]], p[t[3]]).abs())
             .sum()
+    }
+
+    #[test]
+    fn three_component_arrays_are_float3() {
+        let (ty, v) = point_values(&ArrayValues::F64(vec![0.1, 2.0, -3.5, 1e-3, 0.0, 7.0]), 3);
+        assert_eq!(ty, DataType::array(ScalarType::Float, 3));
+        assert_eq!(v, Values::F32(vec![0.1, 2.0, -3.5, 1e-3, 0.0, 7.0]));
+        let (ty, _) = cell_values(&ArrayValues::Int(vec![1, 2, 3]), 3, &[0, 0]);
+        assert_eq!(ty, DataType::array(ScalarType::Float, 3));
+        // Other component counts keep their type; values beyond float's range too.
+        let (ty, _) = point_values(&ArrayValues::F64(vec![0.1, 2.0]), 2);
+        assert_eq!(ty, DataType::array(ScalarType::Double, 2));
+        let (ty, _) = point_values(&ArrayValues::F64(vec![1e100, 0.0, 0.0]), 3);
+        assert_eq!(ty, DataType::array(ScalarType::Double, 3));
     }
 
     #[test]
