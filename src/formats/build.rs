@@ -28,11 +28,11 @@
 use std::collections::HashMap;
 
 use super::{ArrayValues, MeshDescription, cell_type};
+use crate::data::{DataType, ElementKind, RawData, ScalarType, Values};
 use crate::error::{ParseError, Warning};
 use crate::field::{Field, Interpolator, Origin};
-use crate::hypermesh::{DataType, ElementKind, Geometry, RawData, ScalarType, Values};
 use crate::mesh::{EDGE_NODES, TetMesh};
-use crate::volume::{DataSet, Volume};
+use crate::volume::{DataSet, Geometry, Volume};
 
 /// The smallest non-zero coordinate magnitude accepted (see [`volume`]).
 pub const MIN_MAGNITUDE: f64 = 1e-50;
@@ -125,7 +125,7 @@ pub fn volume(mut desc: MeshDescription) -> Result<(Volume, Vec<Warning>), Parse
     }
     if let Some((i, c)) = nodes.iter().enumerate().find_map(|(i, p)| {
         p.iter()
-            .find(|c| c.abs() > crate::hypermesh::MAX_MAGNITUDE)
+            .find(|c| c.abs() > crate::data::MAX_MAGNITUDE)
             .map(|c| (i, *c))
     }) {
         return Err(err(
@@ -133,7 +133,7 @@ pub fn volume(mut desc: MeshDescription) -> Result<(Volume, Vec<Warning>), Parse
             format!(
                 "point {}: coordinate {c} is too large: up to ±{:e} are accepted",
                 i + 1,
-                crate::hypermesh::MAX_MAGNITUDE
+                crate::data::MAX_MAGNITUDE
             ),
         ));
     }
@@ -294,7 +294,7 @@ pub fn volume(mut desc: MeshDescription) -> Result<(Volume, Vec<Warning>), Parse
                 });
             }
         }
-        let te = crate::hypermesh::read::edges_of_cells(&mesh, &list, &index);
+        let te = crate::mesh::edges::edges_of_cells(&mesh, &list, &index);
         (Some(list), Some(te))
     } else {
         (None, None)
@@ -431,10 +431,10 @@ fn check_array(source: &str, a: &super::Array, want: usize, what: &str) -> Resul
         ArrayValues::Int(_) => None,
         ArrayValues::F32(v) => v
             .iter()
-            .position(|x| !x.is_finite() || f64::from(x.abs()) > crate::hypermesh::MAX_MAGNITUDE),
+            .position(|x| !x.is_finite() || f64::from(x.abs()) > crate::data::MAX_MAGNITUDE),
         ArrayValues::F64(v) => v
             .iter()
-            .position(|x| !x.is_finite() || x.abs() > crate::hypermesh::MAX_MAGNITUDE),
+            .position(|x| !x.is_finite() || x.abs() > crate::data::MAX_MAGNITUDE),
     };
     if let Some(i) = bad {
         return Err(ParseError::new(
@@ -447,7 +447,7 @@ fn check_array(source: &str, a: &super::Array, want: usize, what: &str) -> Resul
                 what.trim_end_matches('s'),
                 i / a.components + 1,
                 a.values.get(i),
-                crate::hypermesh::MAX_MAGNITUDE
+                crate::data::MAX_MAGNITUDE
             ),
         ));
     }

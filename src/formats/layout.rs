@@ -39,9 +39,9 @@ use std::collections::HashMap;
 use std::fmt::Write as _;
 
 use super::{ArrayValues, MeshDescription, cell_type};
+use crate::data::{DataType, ElementKind, ScalarType, Values};
 use crate::error::{ParseError, Warning};
 use crate::hypermesh::header::{BlockDecl, Target};
-use crate::hypermesh::{DataType, ElementKind, ScalarType, Values};
 use crate::volume::Volume;
 
 /// The FieldData array that holds the layout text.

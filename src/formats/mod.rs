@@ -324,6 +324,14 @@ pub fn read_description_file(path: &Path) -> Result<Option<MeshDescription>, Err
     }
 }
 
+impl Volume {
+    /// Reads a mesh file of any supported format (HyperMesh, `.vtu`, `.vtk`, `.msh`; see
+    /// [`crate::formats`]). Warnings (e.g. re-oriented cells) are returned, not printed.
+    pub fn load(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
+        load_volume(path)
+    }
+}
+
 /// Loads a volume from any supported file (`volume FILE`). HyperMesh files go through the
 /// HyperMesh reader unchanged; warnings are returned, not printed.
 pub fn load_volume(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {

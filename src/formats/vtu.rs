@@ -28,8 +28,8 @@ use base64::Engine as _;
 use quick_xml::events::{BytesStart, Event};
 
 use super::{Array, ArrayValues, MeshDescription, cell_type, layout, line_of};
+use crate::data::{ScalarType, Values};
 use crate::error::{Error, ParseError, Warning};
-use crate::hypermesh::{ScalarType, Values};
 use crate::volume::Volume;
 
 pub fn sniff(head: &[u8]) -> bool {

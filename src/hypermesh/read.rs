@@ -15,32 +15,15 @@ use super::header::{
     parse_title,
 };
 use super::input::Input;
-use super::types::{ElementKind, RawData, ScalarType, Values};
+use crate::data::{ElementKind, RawData, Values};
 use crate::error::{Error, ParseError, Warning};
 use crate::field::{Field, Interpolator, Origin};
 use crate::mesh::{EDGE_NODES, TetMesh};
 use crate::volume::DataSet;
 
-/// Marks "no element" in index lists (a missing neighbour in UpperLower, an edge of a cell that
-/// the file's edge list lacks).
-pub const NONE: u32 = u32::MAX;
+pub use crate::mesh::edges::{NONE, edge_index, edges_of_cells};
 
-/// The geometry of a file: the validated mesh and the optional edge and triangle lists.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Geometry {
-    pub mesh: TetMesh,
-    /// The type the coordinates were stored with (written back the same way).
-    pub coord_type: ScalarType,
-    /// `FromTo` per edge (0-based), if the file has edges. Edge direction matters for edge
-    /// elements.
-    pub edges: Option<Vec<[u32; 2]>>,
-    /// Node triples per triangle (0-based), if the file has triangles.
-    pub triangles: Option<Vec<[u32; 3]>>,
-    /// For each cell, its six edges (in [`EDGE_NODES`] order) as indices into `edges`, with bit 31
-    /// set where the file directs the edge against the local order; [`NONE`] where the edge
-    /// list lacks it. Present whenever `edges` is.
-    pub tet_edges: Option<Vec<[u32; 6]>>,
-}
+pub use crate::volume::Geometry;
 
 /// Everything a HyperMesh file holds.
 #[derive(Debug, Clone, PartialEq)]
@@ -816,39 +799,6 @@ fn cell_edges(mesh: &TetMesh, list: &[[u32; 2]], l: &Located) -> Result<Vec<[u32
         )
     })?;
     Ok(edges_of_cells(mesh, list, &index))
-}
-
-/// Edge lookup by unordered node pair; `Err((edge, earlier edge))` for a repeated pair.
-pub(crate) fn edge_index(list: &[[u32; 2]]) -> Result<HashMap<(u32, u32), u32>, (usize, usize)> {
-    let mut index: HashMap<(u32, u32), u32> = HashMap::with_capacity(list.len());
-    for (e, &[a, b]) in list.iter().enumerate() {
-        if let Some(first) = index.insert((a.min(b), a.max(b)), e as u32) {
-            return Err((e, first as usize));
-        }
-    }
-    Ok(index)
-}
-
-/// For each cell, its six edges as indices into `list` (bit 31 set where the list directs the
-/// edge against the local order), [`NONE`] where the list lacks one.
-pub(crate) fn edges_of_cells(
-    mesh: &TetMesh,
-    list: &[[u32; 2]],
-    index: &HashMap<(u32, u32), u32>,
-) -> Vec<[u32; 6]> {
-    mesh.tets()
-        .iter()
-        .map(|tet| {
-            EDGE_NODES.map(|[i, j]| {
-                let (a, b) = (tet[i], tet[j]);
-                match index.get(&(a.min(b), a.max(b))) {
-                    Some(&e) if list[e as usize][0] == a => e,
-                    Some(&e) => e | 1 << 31,
-                    None => NONE,
-                }
-            })
-        })
-        .collect()
 }
 
 fn resolve_data(
