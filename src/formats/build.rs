@@ -39,7 +39,7 @@ pub const MIN_MAGNITUDE: f64 = 1e-50;
 
 /// The tetrahedra of a hexahedron, wedge or pyramid (VTK node order) under the smallest-node
 /// rule, as local node indices. `global` are the cell's global node numbers.
-pub fn split_cell(ty: u8, global: &[u64]) -> Vec<[usize; 4]> {
+pub fn split_cell(ty: u8, global: &[u32]) -> Vec<[usize; 4]> {
     // Faces in VTK order, each listed so that consecutive entries are neighbours on the face.
     const HEX_FACES: [&[usize]; 6] = [
         &[0, 3, 2, 1],
@@ -185,7 +185,7 @@ pub fn volume(mut desc: MeshDescription) -> Result<(Volume, Vec<Warning>), Parse
                 ),
             ));
         }
-        if let Some(&bad) = conn.iter().find(|&&n| n >= n_nodes as u64) {
+        if let Some(&bad) = conn.iter().find(|&&n| n as usize >= n_nodes) {
             return Err(err(
                 cells_line,
                 format!(
@@ -197,7 +197,7 @@ pub fn volume(mut desc: MeshDescription) -> Result<(Volume, Vec<Warning>), Parse
         if i >= u32::MAX as usize {
             return Err(err(cells_line, "too many cells".into()));
         }
-        let g = |k: usize| conn[k] as u32;
+        let g = |k: usize| conn[k];
         match ty {
             cell_type::TETRA => {
                 tets.push([g(0), g(1), g(2), g(3)]);
@@ -606,8 +606,8 @@ mod tests {
     fn every_numbering_of_a_hexahedron_fills_it() {
         let p = cube();
         // Each rotation of the global numbering puts the smallest node at another corner.
-        for shift in 0..8u64 {
-            let global: Vec<u64> = (0..8).map(|i| (i + shift) % 8).collect();
+        for shift in 0..8u32 {
+            let global: Vec<u32> = (0..8).map(|i| (i + shift) % 8).collect();
             let tets = split_cell(cell_type::HEXAHEDRON, &global);
             assert_eq!(tets.len(), 6);
             assert!((volume_of(&p, &tets) - 1.0).abs() < 1e-12, "shift {shift}");
@@ -627,8 +627,8 @@ mod tests {
             [1.0, 0.0, 1.0],
             [0.0, 1.0, 1.0],
         ];
-        for shift in 0..6u64 {
-            let global: Vec<u64> = (0..6).map(|i| (i * 5 + shift) % 6).collect();
+        for shift in 0..6u32 {
+            let global: Vec<u32> = (0..6).map(|i| (i * 5 + shift) % 6).collect();
             let tets = split_cell(cell_type::WEDGE, &global);
             assert_eq!(tets.len(), 3);
             assert!((volume_of(&w, &tets) - 0.5).abs() < 1e-12);
@@ -640,8 +640,8 @@ mod tests {
             [0.0, 1.0, 0.0],
             [0.5, 0.5, 1.0],
         ];
-        for shift in 0..5u64 {
-            let global: Vec<u64> = (0..5).map(|i| (i + shift) % 5).collect();
+        for shift in 0..5u32 {
+            let global: Vec<u32> = (0..5).map(|i| (i + shift) % 5).collect();
             let tets = split_cell(cell_type::PYRAMID, &global);
             assert_eq!(tets.len(), 2);
             assert!((volume_of(&py, &tets) - 1.0 / 3.0).abs() < 1e-12);
@@ -651,14 +651,14 @@ mod tests {
     #[test]
     fn a_shared_quad_face_is_cut_the_same_way_from_both_sides() {
         // Two hexahedra stacked along z share the face 4 5 6 7 (global numbers).
-        let lower: Vec<u64> = (0..8).collect();
-        let upper: Vec<u64> = (4..12).collect();
-        let face_tris = |ty: u8, g: &[u64]| -> Vec<[u64; 3]> {
+        let lower: Vec<u32> = (0..8).collect();
+        let upper: Vec<u32> = (4..12).collect();
+        let face_tris = |ty: u8, g: &[u32]| -> Vec<[u32; 3]> {
             let mut out = Vec::new();
             for t in split_cell(ty, g) {
                 let nodes = t.map(|k| g[k]);
                 for skip in 0..4 {
-                    let mut tri: Vec<u64> =
+                    let mut tri: Vec<u32> =
                         (0..4).filter(|&k| k != skip).map(|k| nodes[k]).collect();
                     if tri.iter().all(|n| (4..8).contains(n)) {
                         tri.sort_unstable();

@@ -328,7 +328,9 @@ pub fn volume(desc: &mut MeshDescription) -> Option<Result<(Volume, Vec<Warning>
     }
     let name = desc.source.clone();
     let mut nodes = std::mem::take(&mut desc.nodes);
-    let mut connectivity = std::mem::take(&mut desc.cells.connectivity);
+    // Only the connectivity is needed (all cells are tetrahedra, checked above): the offsets
+    // and types are freed before the mesh is built (peak memory of a load).
+    let mut connectivity = std::mem::take(&mut desc.cells).connectivity;
     let mut point_arrays: Vec<Option<ArrayValues>> = desc
         .point_arrays
         .iter_mut()
@@ -361,9 +363,10 @@ pub fn volume(desc: &mut MeshDescription) -> Option<Result<(Volume, Vec<Warning>
         }
         if m == "connectivity" {
             let c = std::mem::take(&mut connectivity);
-            if c.iter().any(|&n| n >= i32::MAX as u64) {
+            if c.iter().any(|&n| n >= i32::MAX as u32) {
                 return Err("a node index is too large".into());
             }
+            // In place: u32 and i32 have the same size.
             return Ok(Values::I32(c.into_iter().map(|n| n as i32 + 1).collect()));
         }
         let numbered = |prefix: char, list: &mut Vec<Option<ArrayValues>>| {

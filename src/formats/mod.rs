@@ -123,8 +123,10 @@ impl Array {
 pub struct Cells {
     pub types: Vec<u8>,
     pub offsets: Vec<usize>,
-    /// 0-based node indices.
-    pub connectivity: Vec<u64>,
+    /// 0-based node indices (32 bits, as every mesh VoRANG builds: half the memory of 64-bit
+    /// indices while a large file is read). An index that does not fit is stored as
+    /// `u32::MAX`, which is out of range for every mesh and reported as such.
+    pub connectivity: Vec<u32>,
 }
 
 impl Cells {
@@ -137,7 +139,7 @@ impl Cells {
     }
 
     /// The nodes of cell `i`.
-    pub fn nodes(&self, i: usize) -> &[u64] {
+    pub fn nodes(&self, i: usize) -> &[u32] {
         &self.connectivity[self.offsets[i]..self.offsets[i + 1]]
     }
 
@@ -147,7 +149,8 @@ impl Cells {
             self.offsets.push(0);
         }
         self.types.push(ty);
-        self.connectivity.extend_from_slice(nodes);
+        self.connectivity
+            .extend(nodes.iter().map(|&n| u32::try_from(n).unwrap_or(u32::MAX)));
         self.offsets.push(self.connectivity.len());
     }
 }

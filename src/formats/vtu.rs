@@ -531,22 +531,41 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
             if desc.cells_line == 0 {
                 desc.cells_line = conn_d.line;
             }
-            let types = decode(&settings, types_d, piece.cells)?;
-            let offs = decode(&settings, off_d, piece.cells)?;
-            let (ArrayValues::Int(offs), ArrayValues::Int(types)) = (offs, types) else {
-                return Err(ParseError::new(
-                    name,
-                    off_d.line,
-                    "offsets and types must be integer arrays",
-                ));
+            // Decoded as 32-bit numbers (values that do not fit are kept aside for the
+            // messages below): no 64-bit copy of the two per-cell arrays.
+            let integers = |d: &Decl| {
+                if matches!(d.ty, NumType::F32 | NumType::F64) {
+                    Err(ParseError::new(
+                        name,
+                        off_d.line,
+                        "offsets and types must be integer arrays",
+                    ))
+                } else {
+                    Ok(())
+                }
+            };
+            integers(types_d)?;
+            integers(off_d)?;
+            let (types, types_outside) = decode_indices(&settings, types_d, piece.cells, 256)?;
+            let (offs, offs_outside) =
+                decode_indices(&settings, off_d, piece.cells, u32::MAX as usize)?;
+            let original = |v: &[u32], outside: &Outside, i: usize| -> i64 {
+                match outside.iter().find(|(at, _)| *at == i) {
+                    Some(&(_, x)) => x,
+                    None => i64::from(v[i]),
+                }
             };
             // Types and offsets first, so that they are checked and stored compactly before
             // the connectivity, the largest array, is decoded.
             let conn_base = desc.cells.connectivity.len();
             let first_cell = desc.cells.types.len();
             let mut prev = 0i64;
-            for (i, (&o, &t)) in offs.iter().zip(&types).enumerate() {
-                if o < prev || o > 1 << 48 {
+            desc.cells.types.reserve(types.len());
+            desc.cells.offsets.reserve(offs.len());
+            for i in 0..offs.len().min(types.len()) {
+                let o = original(&offs, &offs_outside, i);
+                let t = original(&types, &types_outside, i);
+                if o < prev || o >= i64::from(u32::MAX) {
                     return Err(ParseError::new(
                         name,
                         off_d.line,
@@ -585,15 +604,20 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                 prev = o;
             }
             drop((offs, types));
-            // The connectivity's length is what the last offset says.
-            let conn = decode(&settings, conn_d, prev as usize)?;
-            let ArrayValues::Int(conn) = conn else {
+            // The connectivity's length is what the last offset says; decoded straight into
+            // 32-bit indices, an index outside the piece's points kept aside for the message.
+            if desc.nodes.len() >= u32::MAX as usize {
                 return Err(ParseError::new(
                     name,
-                    conn_d.line,
-                    "connectivity must be an integer array",
+                    piece.line,
+                    format!(
+                        "{} points in all: VoRANG indexes at most {} points",
+                        desc.nodes.len(),
+                        u32::MAX - 1
+                    ),
                 ));
-            };
+            }
+            let (conn, outside) = decode_indices(&settings, conn_d, prev as usize, piece.points)?;
             for i in first_cell..desc.cells.types.len() {
                 let t = desc.cells.types[i];
                 if cell_type::volume_nodes(t).is_none() {
@@ -603,10 +627,11 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                     desc.cells.offsets[i] - conn_base,
                     desc.cells.offsets[i + 1] - conn_base,
                 );
-                if let Some(&bad) = conn[a..b]
-                    .iter()
-                    .find(|&&n| n < 0 || n as usize >= piece.points)
-                {
+                if let Some(k) = conn[a..b].iter().position(|&n| n as usize >= piece.points) {
+                    let bad = outside
+                        .iter()
+                        .find(|(at, _)| *at == a + k)
+                        .map_or(i64::from(conn[a + k]), |(_, v)| *v);
                     return Err(ParseError::new(
                         name,
                         conn_d.line,
@@ -619,15 +644,15 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                     ));
                 }
             }
-            // Validated: now the whole list, converted in place (no second copy of the
-            // largest array of the file).
-            let shifted = conn
-                .into_iter()
-                .map(|n| (n.max(0) as u64).saturating_add(node_base));
-            if desc.cells.connectivity.is_empty() {
-                desc.cells.connectivity = shifted.collect();
+            // Validated: the piece's indices follow the points of the pieces before it (in
+            // place, no second copy of the largest array of the file).
+            let base = node_base as u32;
+            if desc.cells.connectivity.is_empty() && base == 0 {
+                desc.cells.connectivity = conn;
             } else {
-                desc.cells.connectivity.extend(shifted);
+                desc.cells
+                    .connectivity
+                    .extend(conn.into_iter().map(|n| n.saturating_add(base)));
             }
         }
         // Point and cell arrays, by name across pieces.
@@ -722,19 +747,60 @@ fn append_values(dest: &mut ArrayValues, v: ArrayValues) {
 
 /// Decodes one array's `count` numbers.
 fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseError> {
-    let what = if d.name.is_empty() {
+    if d.format == DataFormat::Ascii {
+        want_bytes(s, d, count)?;
+        return ascii_values(s, d, count, &what_of(d));
+    }
+    let sink = Sink::new(d.ty, s.big_endian, 0);
+    Ok(decode_into(s, d, count, sink)?.values)
+}
+
+/// The bytes `count` values take, refused when more than the file can hold (allocation stays
+/// bounded by the file's size).
+fn want_bytes(s: &Settings, d: &Decl, count: usize) -> Result<usize, ParseError> {
+    count
+        .checked_mul(d.ty.size())
+        .filter(|&b| b <= s.limit)
+        .ok_or_else(|| {
+            ParseError::new(
+                s.name,
+                d.line,
+                format!(
+                    "{}: {count} values are more than this file can hold",
+                    what_of(d)
+                ),
+            )
+        })
+}
+
+fn what_of(d: &Decl) -> String {
+    if d.name.is_empty() {
         "DataArray".to_string()
     } else {
         format!("DataArray \"{}\"", d.name)
-    };
+    }
+}
+
+/// What a [`Sink`] produced.
+struct Decoded {
+    values: ArrayValues,
+    index: Option<IndexOut>,
+}
+
+/// Decodes a binary or appended array's `count` numbers into `sink`.
+fn decode_into(
+    s: &Settings,
+    d: &Decl,
+    count: usize,
+    mut sink: Sink,
+) -> Result<Decoded, ParseError> {
+    let what = what_of(d);
     let err = |msg: String| ParseError::new(s.name, d.line, format!("{what}: {msg}"));
-    let want_bytes = count
-        .checked_mul(d.ty.size())
-        .filter(|&b| b <= s.limit)
-        .ok_or_else(|| err(format!("{count} values are more than this file can hold")))?;
-    let mut sink = Sink::new(d.ty, s.big_endian, want_bytes);
+    let want_bytes = want_bytes(s, d, count)?;
+    sink.want = want_bytes;
+    let sink = &mut sink;
     match d.format {
-        DataFormat::Ascii => return ascii_values(s, d, count, &what),
+        DataFormat::Ascii => unreachable!("ascii arrays are decoded as text"),
         DataFormat::Binary => {
             let text: Vec<u8> = d
                 .text
@@ -742,7 +808,7 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
                 .copied()
                 .filter(|b| !b.is_ascii_whitespace())
                 .collect();
-            binary_base64(s, &text, want_bytes, &mut sink).map_err(&err)?;
+            binary_base64(s, &text, want_bytes, sink).map_err(&err)?;
         }
         DataFormat::Appended(offset) => {
             let Some((app, start, raw)) = s.appended else {
@@ -758,7 +824,7 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
             }
             let o = offset.min(app.len() as u64) as usize;
             if raw {
-                binary_raw(s, &app[o..], start + o, want_bytes, &mut sink).map_err(&err)?;
+                binary_raw(s, &app[o..], start + o, want_bytes, sink).map_err(&err)?;
             } else {
                 let end = s
                     .offsets
@@ -770,7 +836,7 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
                     .copied()
                     .filter(|b| !b.is_ascii_whitespace())
                     .collect();
-                binary_base64(s, &text, want_bytes, &mut sink).map_err(&err)?;
+                binary_base64(s, &text, want_bytes, sink).map_err(&err)?;
             }
         }
     }
@@ -786,7 +852,79 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
             sink.seen, d.ty
         )));
     }
-    sink.finish().map_err(err)
+    let index = sink.index.take();
+    let values = std::mem::replace(sink, Sink::new(d.ty, false, 0))
+        .finish()
+        .map_err(err)?;
+    Ok(Decoded { values, index })
+}
+
+/// Decodes the connectivity: `count` 0-based indices of the piece's `points`, straight into
+/// 32-bit storage (a large file's biggest array never exists as 64-bit numbers). An index
+/// outside `0…points-1` is stored as `u32::MAX`; the first few such are returned with their
+/// positions and values, for messages.
+fn decode_indices(
+    s: &Settings,
+    d: &Decl,
+    count: usize,
+    points: usize,
+) -> Result<(Vec<u32>, Outside), ParseError> {
+    let limit = points.min(u32::MAX as usize) as u64;
+    let integer = !matches!(d.ty, NumType::F32 | NumType::F64);
+    if d.format == DataFormat::Ascii || !integer {
+        let ArrayValues::Int(v) = decode(s, d, count)? else {
+            return Err(ParseError::new(
+                s.name,
+                d.line,
+                "connectivity must be an integer array",
+            ));
+        };
+        let mut outside = Vec::new();
+        let conn = v
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| match u32::try_from(x) {
+                Ok(n) if u64::from(n) < limit => n,
+                _ => {
+                    if outside.len() < MAX_OUTSIDE {
+                        outside.push((i, x));
+                    }
+                    u32::MAX
+                }
+            })
+            .collect();
+        return Ok((conn, outside));
+    }
+    let mut sink = Sink::new(d.ty, s.big_endian, 0);
+    sink.index = Some(IndexOut {
+        v: Vec::new(),
+        limit,
+        outside: Vec::new(),
+    });
+    match decode_into(s, d, count, sink)? {
+        Decoded {
+            index: Some(out), ..
+        } => Ok((out.v, out.outside)),
+        _ => Err(ParseError::new(
+            s.name,
+            d.line,
+            "connectivity must be an integer array",
+        )),
+    }
+}
+
+/// Out-of-range indices with their positions (the first few), for messages.
+type Outside = Vec<(usize, i64)>;
+
+/// How many out-of-range indices [`decode_indices`] keeps for messages.
+const MAX_OUTSIDE: usize = 16;
+
+/// 32-bit index output of a [`Sink`].
+struct IndexOut {
+    v: Vec<u32>,
+    /// Indices must be below this.
+    limit: u64,
+    outside: Outside,
 }
 
 /// Turns decoded bytes into values as they arrive (block by block for compressed data), so a
@@ -799,6 +937,8 @@ struct Sink {
     seen: usize,
     carry: Vec<u8>,
     out: ArrayValues,
+    /// Set for the connectivity: 32-bit indices instead of `out`.
+    index: Option<IndexOut>,
     error: Option<String>,
 }
 
@@ -816,6 +956,7 @@ impl Sink {
             seen: 0,
             carry: Vec::new(),
             out,
+            index: None,
             error: None,
         }
     }
@@ -824,6 +965,10 @@ impl Sink {
     /// counts alone could ask for anything).
     fn reserve(&mut self, bytes: usize) {
         let n = bytes.min(self.want) / self.ty.size();
+        if let Some(idx) = &mut self.index {
+            idx.v.reserve_exact(n);
+            return;
+        }
         match &mut self.out {
             ArrayValues::F32(v) => v.reserve_exact(n),
             ArrayValues::F64(v) => v.reserve_exact(n),
@@ -851,6 +996,10 @@ impl Sink {
     }
 
     fn convert(&mut self, data: &[u8]) {
+        if let Some(idx) = &mut self.index {
+            convert_indices(data, self.ty, self.big, idx);
+            return;
+        }
         if let Err(e) = convert_into(data, self.ty, self.big, &mut self.out) {
             self.error.get_or_insert(e);
         }
@@ -864,8 +1013,81 @@ impl Sink {
     }
 }
 
+/// Appends the integers in `data` to `out` as 32-bit indices (see [`decode_indices`]).
+fn convert_indices(data: &[u8], ty: NumType, big: bool, out: &mut IndexOut) {
+    let IndexOut { v, limit, outside } = out;
+    let limit = *limit;
+    let first = v.len();
+    let mut check = |i: usize, x: i64| -> u32 {
+        if (0..limit as i64).contains(&x) {
+            x as u32
+        } else {
+            if outside.len() < MAX_OUTSIDE {
+                outside.push((first + i, x));
+            }
+            u32::MAX
+        }
+    };
+    let size = ty.size();
+    let chunks = data.chunks_exact(size);
+    match (ty, big) {
+        (NumType::I64, false) => v.extend(chunks.enumerate().map(|(i, c)| {
+            check(
+                i,
+                i64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]),
+            )
+        })),
+        (NumType::I32, false) => v.extend(
+            chunks
+                .enumerate()
+                .map(|(i, c)| check(i, i64::from(i32::from_le_bytes([c[0], c[1], c[2], c[3]])))),
+        ),
+        _ => {
+            let mut tmp = ArrayValues::Int(Vec::with_capacity(data.len() / size));
+            let result = convert_into(data, ty, big, &mut tmp);
+            if let (Ok(()), ArrayValues::Int(t)) = (result, tmp) {
+                v.extend(t.into_iter().enumerate().map(|(i, x)| check(i, x)));
+            } else {
+                // A UInt64 beyond i64: out of range like any other.
+                let n = data.len() / size;
+                v.extend((0..n).map(|i| check(i, -1)));
+            }
+        }
+    }
+}
+
 fn convert_into(data: &[u8], ty: NumType, big: bool, out: &mut ArrayValues) -> Result<(), String> {
     let size = ty.size();
+    // The common cases, little-endian and whole numbers of elements, in tight loops that the
+    // compiler vectorises (large connectivity arrays spend most of their reading time here).
+    if !big {
+        let chunks = data.chunks_exact(size);
+        let four = |c: &[u8]| [c[0], c[1], c[2], c[3]];
+        let eight = |c: &[u8]| [c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]];
+        match (ty, &mut *out) {
+            (NumType::F32, ArrayValues::F32(v)) => {
+                v.extend(chunks.map(|c| f32::from_le_bytes(four(c))));
+                return Ok(());
+            }
+            (NumType::F64, ArrayValues::F64(v)) => {
+                v.extend(chunks.map(|c| f64::from_le_bytes(eight(c))));
+                return Ok(());
+            }
+            (NumType::I64, ArrayValues::Int(v)) => {
+                v.extend(chunks.map(|c| i64::from_le_bytes(eight(c))));
+                return Ok(());
+            }
+            (NumType::I32, ArrayValues::Int(v)) => {
+                v.extend(chunks.map(|c| i64::from(i32::from_le_bytes(four(c)))));
+                return Ok(());
+            }
+            (NumType::U8, ArrayValues::Int(v)) => {
+                v.extend(data.iter().map(|&b| i64::from(b)));
+                return Ok(());
+            }
+            _ => {}
+        }
+    }
     let word = |chunk: &[u8]| -> [u8; 8] {
         let mut w = [0u8; 8];
         if big {
@@ -1663,6 +1885,42 @@ mod tests {
             let (h, d) = split_base64(text.as_bytes(), 4).unwrap();
             assert_eq!(h, header);
             assert_eq!(d, data);
+        }
+    }
+
+    #[test]
+    fn binary_connectivity_out_of_range_names_the_index() {
+        let b64arr = |bytes: Vec<u8>| {
+            let header = (bytes.len() as u32).to_le_bytes();
+            [b64().encode(header), b64().encode(bytes)].concat()
+        };
+        let points: Vec<u8> = [0.0f64, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1.]
+            .iter()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        for (bad, shown) in [(-1i64, "-1"), (1 << 40, "1099511627776"), (4, "4")] {
+            let conn: Vec<u8> = [0i64, 1, 2, bad]
+                .iter()
+                .flat_map(|x| x.to_le_bytes())
+                .collect();
+            let text = format!(
+                r#"<VTKFile type="UnstructuredGrid"><UnstructuredGrid><Piece NumberOfPoints="4" NumberOfCells="1">
+<Points><DataArray type="Float64" NumberOfComponents="3" format="binary">{}</DataArray></Points>
+<Cells><DataArray type="Int64" Name="connectivity" format="binary">{}</DataArray>
+<DataArray type="Int64" Name="offsets" format="ascii">4</DataArray>
+<DataArray type="UInt8" Name="types" format="ascii">10</DataArray></Cells>
+</Piece></UnstructuredGrid></VTKFile>"#,
+                b64arr(points.clone()),
+                b64arr(conn)
+            );
+            let e = read(text.as_bytes(), "c.vtu").unwrap_err();
+            assert_eq!(e.line, 3, "{e}");
+            assert!(
+                e.message.contains(&format!(
+                    "cell 1 refers to point {shown}, but the piece has 4"
+                )),
+                "{e}"
+            );
         }
     }
 }
