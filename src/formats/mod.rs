@@ -182,6 +182,11 @@ pub struct MeshDescription {
 /// A reader: a whole file's bytes and its name (for messages) to a description.
 pub type ReadFn = fn(&[u8], &str) -> Result<MeshDescription, ParseError>;
 
+/// A writer: a volume to a file (the options choose HyperMesh's encoding and layout; other
+/// formats have one way of writing). Returns warnings about what the format cannot hold.
+pub type WriteFn =
+    fn(&Volume, &Path, crate::hypermesh::WriteOptions) -> Result<Vec<Warning>, Error>;
+
 /// One registry entry.
 pub struct Format {
     pub name: &'static str,
@@ -192,8 +197,15 @@ pub struct Format {
     /// Reads a whole file into a description; `None` for HyperMesh (read by
     /// [`crate::hypermesh`]).
     pub read: Option<ReadFn>,
+    /// Writes a volume in this format; `None` for formats VoRANG only reads.
+    pub write: Option<WriteFn>,
+}
+
+impl Format {
     /// Whether [`save_volume`] can write it.
-    pub writable: bool,
+    pub fn writable(&self) -> bool {
+        self.write.is_some()
+    }
 }
 
 /// Every format, HyperMesh first (the fallback for unknown extensions when writing).
@@ -203,28 +215,30 @@ pub const FORMATS: &[Format] = &[
         extensions: &["hmesh", "hmascii", "hmbin", "bin", "asc", "hm"],
         sniff: |b| starts_after_space(b, b"# HyperMesh") || starts_after_space(b, b"#HyperMesh"),
         read: None,
-        writable: true,
+        write: Some(|vol, path, opts| {
+            crate::hypermesh::save_volume(vol, path, opts).map(|()| Vec::new())
+        }),
     },
     Format {
         name: "VTK XML UnstructuredGrid",
         extensions: &["vtu"],
         sniff: vtu::sniff,
         read: Some(vtu::read),
-        writable: true,
+        write: Some(|vol, path, _| vtu::save(vol, path)),
     },
     Format {
         name: "legacy VTK",
         extensions: &["vtk"],
         sniff: vtk_legacy::sniff,
         read: Some(vtk_legacy::read),
-        writable: false,
+        write: None,
     },
     Format {
         name: "Gmsh",
         extensions: &["msh"],
         sniff: msh::sniff,
         read: Some(msh::read),
-        writable: false,
+        write: None,
     },
 ];
 
@@ -418,15 +432,12 @@ pub fn save_volume(
     opts: crate::hypermesh::WriteOptions,
 ) -> Result<Vec<Warning>, Error> {
     let format = format_for_writing(path);
-    match format.name {
-        "VTK XML UnstructuredGrid" => vtu::save(vol, path),
-        _ if format.writable => {
-            crate::hypermesh::save_volume(vol, path, opts)?;
-            Ok(Vec::new())
-        }
-        other => Err(Error::Invalid(format!(
-            "{}: VoRANG cannot write {other} files; write .vtu (VTK XML) or a HyperMesh file",
-            path.display()
+    match format.write {
+        Some(write) => write(vol, path, opts),
+        None => Err(Error::Invalid(format!(
+            "{}: VoRANG cannot write {} files; write .vtu (VTK XML) or a HyperMesh file",
+            path.display(),
+            format.name
         ))),
     }
 }
