@@ -110,8 +110,46 @@ struct Decl {
     /// `NumberOfTuples` (FieldData arrays say how long they are).
     tuples: Option<usize>,
     line: usize,
-    /// Inline content (ascii numbers or base64 text).
-    text: Vec<u8>,
+    /// Inline content (ascii numbers or base64 text), as places in the file: a large inline
+    /// array is never copied before it is decoded.
+    text: Vec<TextPart>,
+}
+
+/// A piece of a `DataArray`'s inline content.
+#[derive(Debug)]
+enum TextPart {
+    /// Bytes `start..end` of the file.
+    At(usize, usize),
+    /// Content the XML reader did not borrow from the file (not expected; kept for safety).
+    Owned(Vec<u8>),
+}
+
+impl TextPart {
+    /// The part of `t` (content of an event borrowed from `file`).
+    fn of(t: &[u8], file: &[u8]) -> TextPart {
+        let start = (t.as_ptr() as usize).wrapping_sub(file.as_ptr() as usize);
+        if start <= file.len() && t.len() <= file.len() - start {
+            TextPart::At(start, start + t.len())
+        } else {
+            TextPart::Owned(t.to_vec())
+        }
+    }
+}
+
+/// The inline content of `d`: borrowed from the file when it is one piece (the usual case).
+fn decl_text<'a>(s: &Settings<'a>, d: &'a Decl) -> std::borrow::Cow<'a, [u8]> {
+    use std::borrow::Cow;
+    let part = |p: &'a TextPart| -> &'a [u8] {
+        match p {
+            TextPart::At(a, b) => &s.file[*a..*b],
+            TextPart::Owned(v) => v,
+        }
+    };
+    match d.text.as_slice() {
+        [] => Cow::Borrowed(&[]),
+        [one] => Cow::Borrowed(part(one)),
+        many => Cow::Owned(many.iter().flat_map(|p| part(p).iter().copied()).collect()),
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -124,6 +162,8 @@ enum DataFormat {
 /// File-wide settings from `<VTKFile …>` and `<AppendedData …>`.
 struct Settings<'a> {
     name: &'a str,
+    /// The whole file (inline array contents are places in it).
+    file: &'a [u8],
     big_endian: bool,
     header64: bool,
     compressor: Compressor,
@@ -360,12 +400,12 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
             }
             Event::Text(t) => {
                 if let (Some(d), 0) = (&mut current, nested) {
-                    d.text.extend_from_slice(&t);
+                    d.text.push(TextPart::of(&t, bytes));
                 }
             }
             Event::CData(t) => {
                 if let (Some(d), 0) = (&mut current, nested) {
-                    d.text.extend_from_slice(&t);
+                    d.text.push(TextPart::of(&t, bytes));
                 }
             }
             Event::End(_) if nested > 0 => nested -= 1,
@@ -453,6 +493,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
     offsets.dedup();
     let settings = Settings {
         name,
+        file: bytes,
         big_endian,
         header64,
         compressor,
@@ -802,13 +843,8 @@ fn decode_into(
     match d.format {
         DataFormat::Ascii => unreachable!("ascii arrays are decoded as text"),
         DataFormat::Binary => {
-            let text: Vec<u8> = d
-                .text
-                .iter()
-                .copied()
-                .filter(|b| !b.is_ascii_whitespace())
-                .collect();
-            binary_base64(s, &text, want_bytes, sink).map_err(&err)?;
+            let text = decl_text(s, d);
+            binary_base64(s, &without_whitespace(&text), want_bytes, sink).map_err(&err)?;
         }
         DataFormat::Appended(offset) => {
             let Some((app, start, raw)) = s.appended else {
@@ -831,12 +867,8 @@ fn decode_into(
                     .iter()
                     .find(|&&x| x > offset)
                     .map_or(app.len(), |&x| (x as usize).min(app.len()));
-                let text: Vec<u8> = app[o..end]
-                    .iter()
-                    .copied()
-                    .filter(|b| !b.is_ascii_whitespace())
-                    .collect();
-                binary_base64(s, &text, want_bytes, sink).map_err(&err)?;
+                binary_base64(s, &without_whitespace(&app[o..end]), want_bytes, sink)
+                    .map_err(&err)?;
             }
         }
     }
@@ -857,6 +889,29 @@ fn decode_into(
         .finish()
         .map_err(err)?;
     Ok(Decoded { values, index })
+}
+
+/// Base64 text without its whitespace: borrowed when only the ends have any (the usual case).
+fn without_whitespace(text: &[u8]) -> std::borrow::Cow<'_, [u8]> {
+    let start = text
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(text.len());
+    let end = text
+        .iter()
+        .rposition(|b| !b.is_ascii_whitespace())
+        .map_or(start, |e| e + 1);
+    let inner = &text[start..end.max(start)];
+    if inner.iter().any(u8::is_ascii_whitespace) {
+        inner
+            .iter()
+            .copied()
+            .filter(|b| !b.is_ascii_whitespace())
+            .collect::<Vec<u8>>()
+            .into()
+    } else {
+        inner.into()
+    }
 }
 
 /// Decodes the connectivity: `count` 0-based indices of the piece's `points`, straight into
@@ -1135,7 +1190,8 @@ fn ascii_values(
     count: usize,
     what: &str,
 ) -> Result<ArrayValues, ParseError> {
-    let text = std::str::from_utf8(&d.text)
+    let text = decl_text(s, d);
+    let text = std::str::from_utf8(&text)
         .map_err(|_| ParseError::new(s.name, d.line, format!("{what}: ascii data are not text")))?;
     let mut toks = text.split_ascii_whitespace();
     let line_of_tok = |k: usize| {
@@ -1864,6 +1920,7 @@ mod tests {
         let text = b64().encode([0xffu8; 8]);
         let s = Settings {
             name: "x.vtu",
+            file: &[],
             big_endian: false,
             header64: true,
             compressor: Compressor::Zlib,
