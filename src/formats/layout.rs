@@ -144,7 +144,8 @@ pub fn parts(vol: &Volume) -> Parts {
             .fields
             .iter()
             .find(|f| f.sources.contains(&k))
-            .and_then(|f| f.name.clone());
+            .and_then(|f| f.name.clone())
+            .filter(|n| !n.is_empty());
         let components = r.ty.numbers();
         let values = r.values.clone();
         let marker = match r.kind {
@@ -194,7 +195,7 @@ pub fn parts(vol: &Volume) -> Parts {
     for f in &vol.data.fields {
         header.push_str("Field ");
         if let Some(name) = &f.name {
-            let _ = write!(header, "\"{name}\" ");
+            let _ = write!(header, "\"{}\" ", escape(name));
         }
         let _ = write!(header, "{{ {}", f.ty);
         if let Some(d) = &f.denominator {
@@ -214,6 +215,51 @@ pub fn parts(vol: &Volume) -> Parts {
         values: Values::U8(header.into_bytes()),
     });
     parts
+}
+
+/// A field name as a HyperMesh string can hold it: `%`, `"`, line feeds and carriage returns
+/// (which other formats allow in names) are written `%25`, `%22`, `%0A`, `%0D`.
+fn escape(name: &str) -> String {
+    let mut out = String::with_capacity(name.len());
+    for c in name.chars() {
+        match c {
+            '%' => out.push_str("%25"),
+            '"' => out.push_str("%22"),
+            '\n' => out.push_str("%0A"),
+            '\r' => out.push_str("%0D"),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+/// The inverse of [`escape`].
+fn unescape(name: &str) -> String {
+    let mut out = String::with_capacity(name.len());
+    let mut rest = name;
+    while let Some(k) = rest.find('%') {
+        out.push_str(&rest[..k]);
+        let code = rest.get(k + 1..k + 3);
+        let c = match code {
+            Some("25") => Some('%'),
+            Some("22") => Some('"'),
+            Some("0A") => Some('\n'),
+            Some("0D") => Some('\r'),
+            _ => None,
+        };
+        match c {
+            Some(c) => {
+                out.push(c);
+                rest = &rest[k + 3..];
+            }
+            None => {
+                out.push('%');
+                rest = &rest[k + 1..];
+            }
+        }
+    }
+    out.push_str(rest);
+    out
 }
 
 /// The layout text of a description, if it has one.
@@ -390,11 +436,38 @@ pub fn volume(desc: &mut MeshDescription) -> Option<Result<(Volume, Vec<Warning>
         };
         convert(&v, d.ty.scalar, shift)
     };
-    let file = match crate::hypermesh::read::read_with_blocks(&name, &text, line.max(1), block) {
+    let mut file = match crate::hypermesh::read::read_with_blocks(&name, &text, line.max(1), block)
+    {
         Ok(f) => f,
         Err(e) => return Some(Err(e)),
     };
+    for f in &mut file.data.fields {
+        if let Some(n) = &mut f.name {
+            *n = unescape(n);
+        }
+    }
     let mut warnings = std::mem::take(&mut desc.warnings);
     warnings.extend(file.warnings.iter().cloned());
     Some(Volume::from_file(file).map(|v| (v, warnings)))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_with_quotes_and_line_breaks_survive_the_header() {
+        for name in [
+            "plain",
+            "a \"quoted\" word",
+            "two\nlines\r",
+            "100% %22",
+            "%",
+            "%2",
+        ] {
+            let e = escape(name);
+            assert!(!e.contains(['"', '\n', '\r']), "{e}");
+            assert_eq!(unescape(&e), name);
+        }
+    }
 }
