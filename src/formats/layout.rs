@@ -455,6 +455,65 @@ pub fn volume(desc: &mut MeshDescription) -> Option<Result<(Volume, Vec<Warning>
 mod tests {
     use super::*;
 
+    fn written(text_edit: impl Fn(String) -> String) -> MeshDescription {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let file = crate::hypermesh::read_file(&root.join("tests/data/two_tets_data.hmesh"))
+            .unwrap_or_else(|e| panic!("{e}"));
+        let vol = Volume::from_file(file).unwrap_or_else(|e| panic!("{e}"));
+        let mut bytes = Vec::new();
+        super::super::vtu::write(&vol, &mut bytes).unwrap();
+        let mut desc = super::super::vtu::read(&bytes, "t.vtu").unwrap_or_else(|e| panic!("{e}"));
+        let a = desc
+            .field_arrays
+            .iter_mut()
+            .find(|a| a.name == LAYOUT_ARRAY)
+            .unwrap();
+        let ArrayValues::Int(v) = &a.values else {
+            panic!("text")
+        };
+        let text = String::from_utf8(v.iter().map(|&b| b as u8).collect()).unwrap();
+        a.values = ArrayValues::Int(text_edit(text).bytes().map(i64::from).collect());
+        desc
+    }
+
+    #[test]
+    fn a_broken_layout_is_an_error_at_its_array() {
+        let (vol, _) = super::super::build::volume(written(|t| t)).unwrap();
+        assert_eq!(vol.data.fields.len(), 8);
+        let line = |d: &MeshDescription| {
+            d.field_arrays
+                .iter()
+                .find(|a| a.name == LAYOUT_ARRAY)
+                .unwrap()
+                .line
+        };
+        let d = written(|t| t.replacen("Linear(", "Lineal(", 1));
+        let at = line(&d);
+        let e = super::super::build::volume(d).unwrap_err();
+        assert_eq!(e.line, at);
+        assert!(e.message.starts_with("VoRANG layout, line "), "{e}");
+        assert!(e.message.contains("unknown interpolator 'Lineal'"), "{e}");
+        let mut d = written(|t| t);
+        d.point_arrays[0].values = ArrayValues::Int(vec![1, 2]);
+        let e = super::super::build::volume(d).unwrap_err();
+        assert!(e.message.contains("VoRANG layout, block @p0"), "{e}");
+        // Arrays renamed by another program: read as a plain .vtu, with a warning.
+        let mut d = written(|t| t);
+        d.point_arrays[0].name = "renamed".into();
+        let (vol, warnings) = super::super::build::volume(d).unwrap();
+        assert!(
+            warnings
+                .iter()
+                .any(|w| w.message.contains("no longer matches"))
+        );
+        assert!(
+            vol.data
+                .fields
+                .iter()
+                .any(|f| f.name.as_deref() == Some("renamed"))
+        );
+    }
+
     #[test]
     fn names_with_quotes_and_line_breaks_survive_the_header() {
         for name in [
