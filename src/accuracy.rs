@@ -4,8 +4,8 @@
 //! tests.
 
 use crate::Volume;
+use crate::data::{DataType, ElementKind, RawData, ScalarType, Values};
 use crate::field::Interpolator;
-use crate::hypermesh::{DataType, ElementKind, RawData, ScalarType, Values};
 use crate::mapping::{AlphaShading, ColorShading, Mapping, parse_map};
 use crate::mesh::TetMesh;
 use crate::mesh::generate::kuhn_box;

@@ -3,8 +3,9 @@
 
 use std::fmt::Write as _;
 
+use crate::data::RawData;
 use crate::field::Field;
-use crate::hypermesh::{HyperMeshFile, RawData};
+use crate::hypermesh::HyperMeshFile;
 use crate::volume::{DataSet, Volume};
 
 /// A short float for reports (about 6 significant digits).
@@ -105,7 +106,7 @@ pub fn describe_data_file(file: &HyperMeshFile) -> String {
         file.encoding.keyword(),
         file.version
     );
-    for kind in crate::hypermesh::ElementKind::ALL {
+    for kind in crate::data::ElementKind::ALL {
         if let Some(n) = file.data.counts[kind.index()] {
             let _ = writeln!(s, "{:<12} {n}", kind.count_keyword());
         }

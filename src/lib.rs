@@ -35,7 +35,7 @@
 //! let field = vol.field(0).unwrap();
 //! let mut value = [0.0];
 //! // At the centroid every node weighs 1/4: (0 + 1 + 2 + 3) / 4.
-//! field.eval(&vol, 0, &[0.25; 4], [0.25; 3], &mut value);
+//! field.eval(&vol.support(), 0, &[0.25; 4], [0.25; 3], &mut value);
 //! assert_eq!(value[0], 1.5);
 //! ```
 
@@ -45,6 +45,7 @@
 
 pub mod accuracy;
 pub mod atomic;
+pub mod data;
 pub mod display;
 pub mod error;
 pub mod field;

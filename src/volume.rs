@@ -1,15 +1,28 @@
 //! The data volume (thesis: `VRxDataGrid`): a tetrahedral mesh together with its raw data and
 //! field distributions, as loaded by the `volume` command and extended by `data [+]`.
 
-use std::path::Path;
-
-use crate::error::{Error, ParseError, Warning};
-use crate::field::{Field, Interpolator, Origin};
-use crate::hypermesh::read::NONE;
-use crate::hypermesh::{
-    self, DataType, ElementKind, Geometry, HyperMeshFile, Materials, RawData, ScalarType,
-};
+use crate::data::{DataType, ElementKind, Materials, RawData, ScalarType};
+use crate::error::{Error, ParseError};
+use crate::field::{Field, Interpolator, Origin, Support};
 use crate::mesh::TetMesh;
+use crate::mesh::edges::{NONE, edge_index, edges_of_cells};
+
+/// The geometry of a volume: the validated mesh and the optional edge and triangle lists.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Geometry {
+    pub mesh: TetMesh,
+    /// The type the coordinates were stored with (written back the same way).
+    pub coord_type: ScalarType,
+    /// `FromTo` per edge (0-based), if the volume has edges. Edge direction matters for edge
+    /// elements.
+    pub edges: Option<Vec<[u32; 2]>>,
+    /// Node triples per triangle (0-based), if the volume has triangles.
+    pub triangles: Option<Vec<[u32; 3]>>,
+    /// For each cell, its six edges (in [`crate::mesh::EDGE_NODES`] order) as indices into
+    /// `edges`, with bit 31 set where the list directs the edge against the local order;
+    /// [`NONE`] where the edge list lacks it. Present whenever `edges` is.
+    pub tet_edges: Option<Vec<[u32; 6]>>,
+}
 
 /// Raw data and fields, with the element counts of the file they came from.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -37,24 +50,6 @@ pub struct Volume {
 }
 
 impl Volume {
-    /// Reads a mesh file of any supported format (HyperMesh, `.vtu`, `.vtk`, `.msh`; see
-    /// [`crate::formats`]). Warnings (e.g. re-oriented cells) are returned, not printed.
-    pub fn load(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
-        crate::formats::load_volume(path)
-    }
-
-    /// Builds a volume from a parsed file; fails for a data-only file.
-    pub fn from_file(file: HyperMeshFile) -> Result<Volume, ParseError> {
-        let Some(geometry) = file.geometry else {
-            return Err(ParseError::new(
-                &file.name,
-                1,
-                "this file has no tetrahedra: expected 'Nodes' and 'Tetrahedra' blocks (use 'data' to load a data-only file onto a volume)",
-            ));
-        };
-        Volume::new(file.name, geometry, file.data)
-    }
-
     /// Assembles a volume and checks the fields that depend on the geometry (edge elements need
     /// every edge of every cell).
     pub fn new(source: String, geometry: Geometry, data: DataSet) -> Result<Volume, ParseError> {
@@ -191,21 +186,32 @@ impl Volume {
     /// A cell's six edges in [`crate::mesh::EDGE_NODES`] order: index into [`Volume::edges`]
     /// and whether the file directs the edge against the local order. `None` without edges.
     pub fn tet_edges(&self, cell: usize) -> Option<[(usize, bool); 6]> {
-        let e = self.tet_edges.as_ref()?.get(cell)?;
-        if e.contains(&NONE) {
-            return None;
+        self.support().tet_edges(cell)
+    }
+
+    /// What this volume's fields are evaluated on ([`Field::eval`]).
+    pub fn support(&self) -> Support<'_> {
+        Support {
+            mesh: &self.mesh,
+            cell_edges: self.tet_edges.as_deref(),
+            raw: &self.data.raw,
+            materials: self.data.materials.as_ref(),
         }
-        Some(e.map(|x| ((x & !(1 << 31)) as usize, x & (1 << 31) != 0)))
     }
 
     pub fn field(&self, n: usize) -> Option<&Field> {
         self.data.fields.get(n)
     }
 
-    /// Loads a data-only file's fields onto this grid (`data file` replaces all fields,
-    /// `data + file` appends). Counts must match the grid; on any error nothing changes.
-    pub fn attach_data(&mut self, file: HyperMeshFile, append: bool) -> Result<(), ParseError> {
-        let mut data = file.data;
+    /// Loads the raw data and fields of a data-only file (`name`, for messages) onto this grid
+    /// (`data file` replaces all fields, `data + file` appends). Counts must match the grid; on
+    /// any error nothing changes.
+    pub fn attach_dataset(
+        &mut self,
+        name: &str,
+        mut data: DataSet,
+        append: bool,
+    ) -> Result<(), ParseError> {
         for kind in ElementKind::ALL {
             let Some(n) = data.counts[kind.index()] else {
                 continue;
@@ -215,7 +221,7 @@ impl Volume {
             match self.count(kind) {
                 Some(have) if have != n => {
                     return Err(ParseError::new(
-                        &file.name,
+                        name,
                         line,
                         format!(
                             "{} = {n}, but the loaded grid has {have} {}s",
@@ -226,7 +232,7 @@ impl Volume {
                 }
                 None if uses && kind != ElementKind::Extra => {
                     return Err(ParseError::new(
-                        &file.name,
+                        name,
                         line,
                         format!(
                             "this file has {} but the loaded grid lists no {}s",
@@ -242,7 +248,7 @@ impl Volume {
             if let (Some(a), Some(b)) = (&self.data.materials, &data.materials) {
                 if a != b {
                     return Err(ParseError::new(
-                        &file.name,
+                        name,
                         1,
                         "its Materials block differs from the loaded volume's; 'data +' cannot merge two different material tables",
                     ));
@@ -350,11 +356,12 @@ impl Volume {
             [0.0, 0.0, 0.0, 1.0],
             [0.25; 4],
         ];
+        let on = self.support();
         for cell in 0..self.mesh.tet_count() {
             let corners = self.mesh.corners(cell);
             for l in &samples {
                 let p = [0, 1, 2].map(|d| (0..4).map(|i| l[i] * corners[i][d]).sum());
-                f.eval(self, cell, l, p, &mut out);
+                f.eval(&on, cell, l, p, &mut out);
                 for (r, &v) in range.iter_mut().zip(&out) {
                     r.0 = r.0.min(v);
                     r.1 = r.1.max(v);
@@ -492,8 +499,8 @@ pub fn subset(vol: &Volume, field: usize) -> Result<Volume, Error> {
         TetMesh::new(nodes, new_tets).map_err(|e| Error::Invalid(format!("save_subset: {e}")))?;
     let tet_edges = edges.as_ref().map(|list| {
         // A subset of a valid edge list has no repeated pairs.
-        let index = hypermesh::read::edge_index(list).unwrap_or_default();
-        hypermesh::read::edges_of_cells(&mesh, list, &index)
+        let index = edge_index(list).unwrap_or_default();
+        edges_of_cells(&mesh, list, &index)
     });
     let geometry = Geometry {
         mesh,
@@ -532,7 +539,7 @@ pub fn jittered_box_with_holes(tets: usize, jitter: f64, seed: u64, holes: f64) 
         kind: ElementKind::Node,
         ty: DataType::scalar(ScalarType::Float),
         denominator: None,
-        values: crate::hypermesh::Values::F32(values),
+        values: crate::data::Values::F32(values),
     };
     let r = vol.data.raw.len();
     vol.data.raw.push(raw);

@@ -147,8 +147,11 @@ fn every_cube_file_has_the_same_mesh_and_fields() {
                 reference.field(r).unwrap().interpolator
             );
             assert_eq!(
-                vol.field(n).unwrap().is_byte_constant(&vol),
-                reference.field(r).unwrap().is_byte_constant(&reference),
+                vol.field(n).unwrap().is_byte_constant(&vol.data.raw),
+                reference
+                    .field(r)
+                    .unwrap()
+                    .is_byte_constant(&reference.data.raw),
                 "{name} {field}"
             );
         }
@@ -176,7 +179,24 @@ fn fields_are_numbered_point_arrays_first_then_cell_arrays_in_file_order() {
         ]
     );
     assert_eq!(vol.field(1).unwrap().components(), 3);
-    assert!(vol.field(2).unwrap().is_byte_constant(&vol));
+    assert!(vol.field(2).unwrap().is_byte_constant(&vol.data.raw));
+    // 3-component arrays are float[3] (HyperMesh's vector type), whatever the file stores.
+    let float3 = vorang::hypermesh::DataType::array(vorang::hypermesh::ScalarType::Float, 3);
+    for f in all_cube_files() {
+        if f.extension().is_some_and(|e| e == "hmesh") {
+            continue;
+        }
+        let (v, _) = Volume::load(&f).unwrap();
+        let velocity = v
+            .data
+            .fields
+            .iter()
+            .find(|x| x.name.as_deref() == Some("velocity"));
+        if let Some(velocity) = velocity {
+            assert_eq!(velocity.ty, float3, "{}", f.display());
+            assert_eq!(v.data.raw[velocity.sources[0]].ty, float3);
+        }
+    }
     // Gmsh: physical groups as an integer cell field, float-coded material ids as bytes.
     let (msh, _) = Volume::load(&data("cube_22_ascii.msh")).unwrap();
     let names: Vec<&str> = msh
@@ -195,8 +215,8 @@ fn fields_are_numbered_point_arrays_first_then_cell_arrays_in_file_order() {
             "pressure"
         ]
     );
-    assert!(msh.field(2).unwrap().is_byte_constant(&msh));
-    assert!(msh.field(3).unwrap().is_byte_constant(&msh));
+    assert!(msh.field(2).unwrap().is_byte_constant(&msh.data.raw));
+    assert!(msh.field(3).unwrap().is_byte_constant(&msh.data.raw));
 }
 
 #[test]
@@ -261,12 +281,12 @@ fn quadratic_tetrahedra_carry_a_p2_field() {
         for l in [[0.1, 0.2, 0.3, 0.4], [0.25; 4], [0.7, 0.1, 0.1, 0.1]] {
             let p: [f64; 3] = [0, 1, 2].map(|d| (0..4).map(|i| l[i] * c[i][d]).sum());
             let mut out = [0.0];
-            f.eval(&vol, cell, &l, p, &mut out);
+            f.eval(&vol.support(), cell, &l, p, &mut out);
             let want = p[0] * p[0] + p[1] * p[2];
             assert!((out[0] - want).abs() < 1e-12, "{} vs {want}", out[0]);
         }
     }
-    assert!(vol.field(1).unwrap().is_byte_constant(&vol));
+    assert!(vol.field(1).unwrap().is_byte_constant(&vol.data.raw));
 }
 
 #[test]
@@ -565,8 +585,9 @@ fn save_volume_writes_vtu_from_a_script() {
         out.display()
     );
     let summary = runner.run_string(&script, "t").unwrap();
-    // The HigherOrder field has no VTK counterpart: left out, with a warning.
-    assert_eq!(summary, "14 nodes, 2 tetrahedra, 1 field");
+    // The HigherOrder field (a P2 field from the quadratic cells) comes back too: VoRANG's
+    // layout keeps its edge data.
+    assert_eq!(summary, "14 nodes, 2 tetrahedra, 2 fields");
     let refused = format!("save_volume {{{}}} binary", out.display());
     let e = runner.run_string(&refused, "t").unwrap_err();
     assert!(e.message.contains("HyperMesh encoding"), "{e}");
@@ -590,7 +611,7 @@ fn files_written_by_gmsh_itself_agree_across_versions_and_encodings() {
         );
         let f = vol.field(0).unwrap();
         assert_eq!(f.name.as_deref(), Some("gmsh:physical"));
-        assert!(f.is_byte_constant(&vol));
+        assert!(f.is_byte_constant(&vol.data.raw));
         assert_eq!(vol.field_range(0), Some(vec![(1.0, 2.0)]), "{name}");
         match &first {
             None => first = Some(vol),
@@ -617,4 +638,131 @@ fn a_corrupt_xz_footer_is_an_error() {
         e.message.contains("lzma") || e.message.contains("bytes"),
         "{e}"
     );
+}
+
+/// Every HyperMesh file in the repository (examples and test data) that holds a grid.
+fn hypermesh_files() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let mut files = Vec::new();
+    for dir in ["examples", "tests/data"] {
+        let mut stack = vec![root.join(dir)];
+        while let Some(d) = stack.pop() {
+            for e in std::fs::read_dir(&d).unwrap() {
+                let p = e.unwrap().path();
+                if p.is_dir() {
+                    stack.push(p);
+                } else if std::fs::read(&p).unwrap().starts_with(b"# HyperMesh 3D") {
+                    files.push(p);
+                }
+            }
+        }
+    }
+    files.sort();
+    files
+}
+
+/// A small render of scalar field `n` of `file` (emission and absorption over its range).
+fn render_field(file: &Path, n: usize, lo: f64, hi: f64) -> Vec<f32> {
+    let hi = if hi > lo { hi } else { lo + 1.0 };
+    let cmap = format!(
+        "# VoRANG Colormap 1.0\nDataField {n}\nSIMPLE_EMITTER @1\n@1\n0 0.2 1 {lo}\n1 0.5 0 {hi}\n"
+    );
+    let amap =
+        format!("# VoRANG Alphamap 1.0\nDataField {n}\nSIMPLE_ABSORBER @1\n@1\n0.2 {lo}\n3 {hi}\n");
+    let tmp = tempfile::tempdir().unwrap();
+    std::fs::write(tmp.path().join("c.map"), cmap).unwrap();
+    std::fs::write(tmp.path().join("a.map"), amap).unwrap();
+    let mut runner = Runner::new(Box::new(Collect::default()));
+    let script = format!(
+        "imagesize 24 20\noutput {{{}}}\nvolume {{{}}}\ncolormap {{{}}}\nalphamap {{{}}}\nmethod exact trapez 0.05 1\nvol_rotate 1 1 0 30\nrender_btf\n",
+        tmp.path().join("img.pfm").display(),
+        file.display(),
+        tmp.path().join("c.map").display(),
+        tmp.path().join("a.map").display()
+    );
+    runner
+        .run_string(&script, "test")
+        .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
+    let bytes = std::fs::read(&runner.session().written[0]).unwrap();
+    let (_, _, rgb) = read_pfm(&bytes).unwrap();
+    rgb.into_iter().flatten().collect()
+}
+
+#[test]
+fn every_hypermesh_file_goes_to_vtu_and_back_unchanged() {
+    let tmp = tempfile::tempdir().unwrap();
+    let files = hypermesh_files();
+    assert!(files.len() >= 10, "{files:?}");
+    let mut converted = 0;
+    for src in files {
+        let name = src.display().to_string();
+        let Ok((vol, _)) = Volume::load(&src) else {
+            continue; // data-only files have no grid to write
+        };
+        let vtu = tmp.path().join("out.vtu");
+        let warnings =
+            formats::save_volume(&vol, &vtu, vorang::hypermesh::WriteOptions::default()).unwrap();
+        assert!(warnings.is_empty(), "{name}: {warnings:?}");
+        let (back, _) = Volume::load(&vtu).unwrap_or_else(|e| panic!("{name}: {e}"));
+        assert_eq!(back.mesh.nodes(), vol.mesh.nodes(), "{name}: nodes");
+        assert_eq!(back.mesh.tets(), vol.mesh.tets(), "{name}: tets");
+        assert_eq!(back.mesh.neighbors(), vol.mesh.neighbors(), "{name}");
+        assert_eq!(back.coord_type, vol.coord_type, "{name}: coordinate type");
+        assert_eq!(back.edges, vol.edges, "{name}: edges");
+        assert_eq!(back.triangles, vol.triangles, "{name}: triangles");
+        for c in 0..vol.mesh.tet_count() {
+            assert_eq!(back.tet_edges(c), vol.tet_edges(c), "{name}: edges of {c}");
+        }
+        assert_eq!(back.data.materials, vol.data.materials, "{name}: materials");
+        assert_eq!(back.data.counts, vol.data.counts, "{name}: counts");
+        assert_eq!(back.data.raw, vol.data.raw, "{name}: raw data");
+        assert_eq!(back.data.fields.len(), vol.data.fields.len(), "{name}");
+        for (f, g) in back.data.fields.iter().zip(&vol.data.fields) {
+            assert_eq!(
+                (&f.name, f.ty, &f.denominator, f.interpolator, &f.sources),
+                (&g.name, g.ty, &g.denominator, g.interpolator, &g.sources),
+                "{name}: field"
+            );
+        }
+        // And the images: every scalar field, bit for bit.
+        let hm = tmp.path().join("out.hmesh");
+        formats::save_volume(&vol, &hm, vorang::hypermesh::WriteOptions::default()).unwrap();
+        for n in 0..vol.data.fields.len() {
+            if !vol.field(n).unwrap().is_scalar() {
+                continue;
+            }
+            let r = vol.field_range(n).unwrap()[0];
+            let a = render_field(&src, n, r.0, r.1);
+            let b = render_field(&vtu, n, r.0, r.1);
+            assert!(a == b, "{name}: field {n} renders differently");
+            assert!(a.iter().any(|&v| v < 0.99), "{name}: field {n} is visible");
+        }
+        converted += 1;
+    }
+    assert!(converted >= 10, "{converted}");
+}
+
+#[test]
+fn a_vtu_changed_by_another_program_is_read_as_a_plain_vtu() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (vol, _) = Volume::load(&data("cube.hmesh")).unwrap();
+    let vtu = tmp.path().join("out.vtu");
+    formats::save_volume(&vol, &vtu, vorang::hypermesh::WriteOptions::default()).unwrap();
+    // Renaming a point array (as an edit in ParaView would) detaches VoRANG's layout.
+    let bytes = replace_once(&std::fs::read(&vtu).unwrap(), "\"velocity\"", "\"speed\"");
+    std::fs::write(&vtu, bytes).unwrap();
+    let (back, warnings) = Volume::load(&vtu).unwrap();
+    assert!(
+        warnings
+            .iter()
+            .any(|w| w.message.contains("no longer matches")),
+        "{warnings:?}"
+    );
+    let names: Vec<&str> = back
+        .data
+        .fields
+        .iter()
+        .map(|f| f.name.as_deref().unwrap())
+        .collect();
+    assert_eq!(names, ["temperature", "speed", "material", "pressure"]);
 }

@@ -203,6 +203,7 @@ fn build(
         cells,
         point_arrays,
         cell_arrays,
+        field_arrays: Vec::new(),
         points_line: 1,
         cells_line: 1,
         warnings: Vec::new(),
@@ -222,7 +223,7 @@ impl PyVolume {
     /// point_data / cell_data: dicts name → (N,) / (N, k) or (M,) / (M, k) arrays. Fields are
     /// numbered point data first, then cell data, in dict order; their names can be used in
     /// map files (`DataField "name"`). Integer cell arrays with values in 0..255 become byte
-    /// Constant fields (materials). Raises ValueError for wrong shapes, indices out of range,
+    /// Constant fields (materials); 3-component arrays become float[3] vector fields. Raises ValueError for wrong shapes, indices out of range,
     /// non-finite coordinates and degenerate tetrahedra.
     #[new]
     #[pyo3(signature = (points, tets, point_data=None, cell_data=None))]

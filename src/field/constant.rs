@@ -1,7 +1,7 @@
 //! `Constant(@tetdata)`: one value per cell (thesis B.2), scalar or vector.
 
 use super::{InterpolatorInfo, Sources, same_shape};
-use crate::hypermesh::{ElementKind, RawData};
+use crate::data::{ElementKind, RawData};
 
 pub const INFO: InterpolatorInfo = InterpolatorInfo {
     interpolator: super::Interpolator::Constant,

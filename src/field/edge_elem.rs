@@ -3,10 +3,10 @@
 //! `a → b` as its `FromTo` row says. Complex edge values give a complex field; the field's value
 //! is its real part (SPEC **Decision**), the imaginary part is used by `EdgeElemSAR`.
 
+use super::Support;
 use super::{InterpolatorInfo, Sources, scalar_edge_values};
-use crate::hypermesh::{ElementKind, RawData};
+use crate::data::{ElementKind, RawData};
 use crate::mesh::{EDGE_NODES, barycentric_gradients};
-use crate::volume::Volume;
 
 pub const INFO: InterpolatorInfo = InterpolatorInfo {
     interpolator: super::Interpolator::EdgeElem,
@@ -35,14 +35,14 @@ pub struct Complex3 {
     pub im: [f64; 3],
 }
 
-pub fn eval(vol: &Volume, raw: &RawData, cell: usize, lambda: &[f64; 4]) -> Complex3 {
+pub fn eval(on: &Support, raw: &RawData, cell: usize, lambda: &[f64; 4]) -> Complex3 {
     let mut e = Complex3 {
         re: [0.0; 3],
         im: [0.0; 3],
     };
     let (Some(grads), Some(edges)) = (
-        barycentric_gradients(&vol.mesh.corners(cell)),
-        vol.tet_edges(cell),
+        barycentric_gradients(&on.mesh.corners(cell)),
+        on.tet_edges(cell),
     ) else {
         return e;
     };

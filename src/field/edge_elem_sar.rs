@@ -2,9 +2,9 @@
 //! edge-element field `E` (SPEC §7), with `σ` (`sigma`) and `ρ` (`rho`, 1 if absent) taken
 //! from the cell's material; for complex `E`, `|E|² = |Re E|² + |Im E|²`.
 
+use super::Support;
 use super::{InterpolatorInfo, Sources, edge_elem, scalar_edge_values};
-use crate::hypermesh::{ElementKind, RawData};
-use crate::volume::Volume;
+use crate::data::{ElementKind, RawData};
 
 pub const INFO: InterpolatorInfo = InterpolatorInfo {
     interpolator: super::Interpolator::EdgeElemSar,
@@ -66,16 +66,16 @@ fn check(s: &Sources) -> Result<(), String> {
 }
 
 pub fn eval(
-    vol: &Volume,
+    on: &Support,
     edges: &RawData,
     materials: &RawData,
     cell: usize,
     lambda: &[f64; 4],
 ) -> f64 {
-    let e = edge_elem::eval(vol, edges, cell, lambda);
+    let e = edge_elem::eval(on, edges, cell, lambda);
     let e2: f64 = (0..3).map(|d| e.re[d] * e.re[d] + e.im[d] * e.im[d]).sum();
     let id = materials.value(cell, 0) as u8;
-    let m = vol.data.materials.as_ref().and_then(|m| m.get(id));
+    let m = on.materials.and_then(|m| m.get(id));
     let sigma = m.and_then(|m| m.prop("sigma")).unwrap_or(0.0);
     let rho = m.and_then(|m| m.prop("rho")).unwrap_or(1.0);
     0.5 * sigma * e2 / rho

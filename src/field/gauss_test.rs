@@ -3,7 +3,7 @@
 //! own coordinates (SPEC §7 **Decision**).
 
 use super::{InterpolatorInfo, Sources};
-use crate::hypermesh::{ElementKind, RawData};
+use crate::data::{ElementKind, RawData};
 
 pub const INFO: InterpolatorInfo = InterpolatorInfo {
     interpolator: super::Interpolator::GaussTest,
@@ -19,7 +19,7 @@ fn check(s: &Sources) -> Result<(), String> {
     let raw = s.raw[0];
     if raw.ty.components() != 5
         || raw.ty.scalar.is_integer()
-        || raw.ty.scalar == crate::hypermesh::ScalarType::Complex
+        || raw.ty.scalar == crate::data::ScalarType::Complex
     {
         return Err(format!(
             "GaussTest needs ExtraData float[5] rows (cx cy cz ρ a), found {}",

@@ -2,10 +2,10 @@
 //! node values and edge-midpoint values, plus an optional cell bubble `256·b·λ0λ1λ2λ3`
 //! (SPEC §7 **Decision**).
 
+use super::Support;
 use super::{InterpolatorInfo, Sources, same_shape};
-use crate::hypermesh::{ElementKind, RawData};
+use crate::data::{ElementKind, RawData};
 use crate::mesh::EDGE_NODES;
-use crate::volume::Volume;
 
 pub const INFO: InterpolatorInfo = InterpolatorInfo {
     interpolator: super::Interpolator::HigherOrder,
@@ -25,7 +25,7 @@ fn check(s: &Sources) -> Result<(), String> {
 }
 
 pub fn eval(
-    vol: &Volume,
+    on: &Support,
     nodes: &RawData,
     edges: &RawData,
     bubble: Option<&RawData>,
@@ -34,8 +34,8 @@ pub fn eval(
     out: &mut [f64],
 ) {
     let n = nodes.ty.numbers();
-    let tet = vol.mesh.tets()[cell];
-    let cell_edges = vol.tet_edges(cell);
+    let tet = on.mesh.tets()[cell];
+    let cell_edges = on.tet_edges(cell);
     let b = 256.0 * l[0] * l[1] * l[2] * l[3];
     for (c, o) in out.iter_mut().enumerate().take(n) {
         let mut v = 0.0;

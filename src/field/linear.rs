@@ -1,10 +1,10 @@
 //! `Linear(@nodedata)`: barycentric interpolation of node values inside each cell (thesis B.2),
 //! for scalar and vector data. The gradient is constant per cell.
 
+use super::Support;
 use super::{InterpolatorInfo, Sources, same_shape};
-use crate::hypermesh::{ElementKind, RawData};
+use crate::data::{ElementKind, RawData};
 use crate::mesh::barycentric_gradients;
-use crate::volume::Volume;
 
 pub const INFO: InterpolatorInfo = InterpolatorInfo {
     interpolator: super::Interpolator::Linear,
@@ -20,8 +20,8 @@ fn check(s: &Sources) -> Result<(), String> {
     same_shape(s.ty, s.raw[0].ty, "Linear")
 }
 
-pub fn eval(vol: &Volume, raw: &RawData, cell: usize, lambda: &[f64; 4], out: &mut [f64]) {
-    let nodes = vol.mesh.tets()[cell];
+pub fn eval(on: &Support, raw: &RawData, cell: usize, lambda: &[f64; 4], out: &mut [f64]) {
+    let nodes = on.mesh.tets()[cell];
     let n = raw.ty.numbers();
     for (c, o) in out.iter_mut().enumerate().take(n) {
         *o = (0..4)
@@ -31,13 +31,13 @@ pub fn eval(vol: &Volume, raw: &RawData, cell: usize, lambda: &[f64; 4], out: &m
 }
 
 /// `∇f = Σ v_i ∇λ_i` for number `c` of each node value.
-pub fn gradient(vol: &Volume, raw: &RawData, cell: usize, c: usize) -> Option<[f64; 3]> {
+pub fn gradient(on: &Support, raw: &RawData, cell: usize, c: usize) -> Option<[f64; 3]> {
     let n = raw.ty.numbers();
     if c >= n {
         return None;
     }
-    let grads = barycentric_gradients(&vol.mesh.corners(cell))?;
-    let nodes = vol.mesh.tets()[cell];
+    let grads = barycentric_gradients(&on.mesh.corners(cell))?;
+    let nodes = on.mesh.tets()[cell];
     let mut g = [0.0; 3];
     for i in 0..4 {
         let v = raw.values.get(nodes[i] as usize * n + c);

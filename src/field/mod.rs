@@ -12,8 +12,35 @@ mod gauss_test;
 mod higher_order;
 mod linear;
 
-use crate::hypermesh::{DataType, ElementKind, Materials, RawData, ScalarType};
-use crate::volume::Volume;
+use crate::data::{DataType, ElementKind, Materials, RawData, ScalarType};
+use crate::mesh::TetMesh;
+use crate::mesh::edges::NONE;
+
+/// What fields are evaluated on: the mesh, the edges of each cell (edge elements and quadratic
+/// fields need them), the raw data blocks that fields refer to by index, and the materials
+/// (EdgeElemSAR). A field depends on these alone, not on where they were loaded from.
+#[derive(Debug, Clone, Copy)]
+pub struct Support<'a> {
+    pub mesh: &'a TetMesh,
+    /// For each cell, its six edges in [`crate::mesh::EDGE_NODES`] order as indices into the
+    /// edge list, with bit 31 set where the list directs the edge against the local order;
+    /// [`NONE`] where the list lacks it. `None` without an edge list.
+    pub cell_edges: Option<&'a [[u32; 6]]>,
+    pub raw: &'a [RawData],
+    pub materials: Option<&'a Materials>,
+}
+
+impl Support<'_> {
+    /// A cell's six edges: index into the edge list and whether the list directs the edge
+    /// against the local order. `None` without edges, or if the list lacks one of them.
+    pub fn tet_edges(&self, cell: usize) -> Option<[(usize, bool); 6]> {
+        let e = self.cell_edges?.get(cell)?;
+        if e.contains(&NONE) {
+            return None;
+        }
+        Some(e.map(|x| ((x & !(1 << 31)) as usize, x & (1 << 31) != 0)))
+    }
+}
 
 /// Which interpolator a field uses.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -203,14 +230,15 @@ impl Field {
     /// A `byte` field that is constant per cell (the kind CONST_CELL maps and `linedraw`
     /// selects by): Constant interpolation of scalar byte data, or a Constant field declared
     /// `byte`.
-    pub fn is_byte_constant(&self, vol: &Volume) -> bool {
+    /// `raw` are the raw data blocks its sources index.
+    pub fn is_byte_constant(&self, raw: &[RawData]) -> bool {
         self.interpolator == Interpolator::Constant
             && self.is_scalar()
             && (self.ty.scalar == ScalarType::Byte
                 || self
                     .sources
                     .first()
-                    .is_some_and(|&s| vol.data.raw[s].is_byte_scalar()))
+                    .is_some_and(|&s| raw.get(s).is_some_and(RawData::is_byte_scalar)))
     }
 
     /// Evaluates the field in `cell` at barycentric coordinates `lambda` (with respect to the
@@ -218,36 +246,36 @@ impl Field {
     /// coordinates. Writes [`Field::components`] numbers into `out`.
     pub fn eval(
         &self,
-        vol: &Volume,
+        on: &Support,
         cell: usize,
         lambda: &[f64; 4],
         point: [f64; 3],
         out: &mut [f64],
     ) {
-        let raw = |k: usize| &vol.data.raw[self.sources[k]];
+        let raw = |k: usize| &on.raw[self.sources[k]];
         match self.interpolator {
-            Interpolator::Linear => linear::eval(vol, raw(0), cell, lambda, out),
+            Interpolator::Linear => linear::eval(on, raw(0), cell, lambda, out),
             Interpolator::Constant => constant::eval(raw(0), cell, out),
             Interpolator::GaussTest => out[0] = gauss_test::eval(raw(0), point),
             Interpolator::EdgeElem => {
-                let e = edge_elem::eval(vol, raw(0), cell, lambda);
+                let e = edge_elem::eval(on, raw(0), cell, lambda);
                 out[..3].copy_from_slice(&e.re);
             }
             Interpolator::EdgeElemSar => {
-                out[0] = edge_elem_sar::eval(vol, raw(0), raw(1), cell, lambda)
+                out[0] = edge_elem_sar::eval(on, raw(0), raw(1), cell, lambda)
             }
             Interpolator::HigherOrder => {
                 let bubble = (self.sources.len() > 2).then(|| raw(2));
-                higher_order::eval(vol, raw(0), raw(1), bubble, cell, lambda, out)
+                higher_order::eval(on, raw(0), raw(1), bubble, cell, lambda, out)
             }
         }
     }
 
     /// The constant gradient of component `c` of a Linear field in `cell` (file coordinates);
     /// `None` for other interpolators, whose gradient varies inside a cell.
-    pub fn gradient(&self, vol: &Volume, cell: usize, c: usize) -> Option<[f64; 3]> {
+    pub fn gradient(&self, on: &Support, cell: usize, c: usize) -> Option<[f64; 3]> {
         match self.interpolator {
-            Interpolator::Linear => linear::gradient(vol, &vol.data.raw[self.sources[0]], cell, c),
+            Interpolator::Linear => linear::gradient(on, &on.raw[self.sources[0]], cell, c),
             _ => None,
         }
     }

@@ -22,23 +22,24 @@
 //! Integer arrays become `int` data, except scalar integer *cell* arrays whose values all lie
 //! in 0…255: those are `byte`, so that `CONST_CELL`, `CategoryField` and `linedraw` take them
 //! (material ids, Gmsh physical groups). Float32 data stay `float`, everything else `double`;
-//! arrays of `n` > 1 components are `type[n]`. Names are kept.
+//! arrays of `n` > 1 components are `type[n]`, except that 3-component arrays are `float[3]`,
+//! HyperMesh's vector type (values rounded to `float`). Names are kept.
 
 use std::collections::HashMap;
 
 use super::{ArrayValues, MeshDescription, cell_type};
+use crate::data::{DataType, ElementKind, RawData, ScalarType, Values};
 use crate::error::{ParseError, Warning};
 use crate::field::{Field, Interpolator, Origin};
-use crate::hypermesh::{DataType, ElementKind, Geometry, RawData, ScalarType, Values};
 use crate::mesh::{EDGE_NODES, TetMesh};
-use crate::volume::{DataSet, Volume};
+use crate::volume::{DataSet, Geometry, Volume};
 
 /// The smallest non-zero coordinate magnitude accepted (see [`volume`]).
 pub const MIN_MAGNITUDE: f64 = 1e-50;
 
 /// The tetrahedra of a hexahedron, wedge or pyramid (VTK node order) under the smallest-node
 /// rule, as local node indices. `global` are the cell's global node numbers.
-pub fn split_cell(ty: u8, global: &[u64]) -> Vec<[usize; 4]> {
+pub fn split_cell(ty: u8, global: &[u32]) -> Vec<[usize; 4]> {
     // Faces in VTK order, each listed so that consecutive entries are neighbours on the face.
     const HEX_FACES: [&[usize]; 6] = [
         &[0, 3, 2, 1],
@@ -91,7 +92,11 @@ pub fn split_cell(ty: u8, global: &[u64]) -> Vec<[usize; 4]> {
 }
 
 /// Builds the volume; warnings (skipped cells, re-oriented tetrahedra) are returned.
-pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseError> {
+pub fn volume(mut desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseError> {
+    // A .vtu that VoRANG wrote: its layout gives back the volume exactly.
+    if let Some(done) = super::layout::volume(&mut desc) {
+        return done;
+    }
     let MeshDescription {
         source,
         nodes,
@@ -120,7 +125,7 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
     }
     if let Some((i, c)) = nodes.iter().enumerate().find_map(|(i, p)| {
         p.iter()
-            .find(|c| c.abs() > crate::hypermesh::MAX_MAGNITUDE)
+            .find(|c| c.abs() > crate::data::MAX_MAGNITUDE)
             .map(|c| (i, *c))
     }) {
         return Err(err(
@@ -128,7 +133,7 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
             format!(
                 "point {}: coordinate {c} is too large: up to ±{:e} are accepted",
                 i + 1,
-                crate::hypermesh::MAX_MAGNITUDE
+                crate::data::MAX_MAGNITUDE
             ),
         ));
     }
@@ -180,7 +185,7 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
                 ),
             ));
         }
-        if let Some(&bad) = conn.iter().find(|&&n| n >= n_nodes as u64) {
+        if let Some(&bad) = conn.iter().find(|&&n| n as usize >= n_nodes) {
             return Err(err(
                 cells_line,
                 format!(
@@ -192,7 +197,7 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
         if i >= u32::MAX as usize {
             return Err(err(cells_line, "too many cells".into()));
         }
-        let g = |k: usize| conn[k] as u32;
+        let g = |k: usize| conn[k];
         match ty {
             cell_type::TETRA => {
                 tets.push([g(0), g(1), g(2), g(3)]);
@@ -289,7 +294,7 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
                 });
             }
         }
-        let te = crate::hypermesh::read::edges_of_cells(&mesh, &list, &index);
+        let te = crate::mesh::edges::edges_of_cells(&mesh, &list, &index);
         (Some(list), Some(te))
     } else {
         (None, None)
@@ -319,13 +324,24 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
                     })),
                 }
             }
+            // Vectors stay float[3]; everything else becomes double (the mid-edge means).
+            let vector = ty == DataType::array(ScalarType::Float, 3);
             let edge_ty = DataType {
-                scalar: ScalarType::Double,
+                scalar: if vector {
+                    ScalarType::Float
+                } else {
+                    ScalarType::Double
+                },
                 array: ty.array,
             };
             let node_values = match values {
-                Values::F32(v) => Values::F64(v.into_iter().map(f64::from).collect()),
+                Values::F32(v) if !vector => Values::F64(v.into_iter().map(f64::from).collect()),
                 other => other,
+            };
+            let mid = if vector {
+                Values::F32(mid.into_iter().map(|x| x as f32).collect())
+            } else {
+                Values::F64(mid)
             };
             data.raw.push(RawData {
                 kind: ElementKind::Node,
@@ -337,7 +353,7 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
                 kind: ElementKind::Edge,
                 ty: edge_ty,
                 denominator: None,
-                values: Values::F64(mid),
+                values: mid,
             });
             data.fields.push(Field {
                 name: Some(a.name),
@@ -415,10 +431,10 @@ fn check_array(source: &str, a: &super::Array, want: usize, what: &str) -> Resul
         ArrayValues::Int(_) => None,
         ArrayValues::F32(v) => v
             .iter()
-            .position(|x| !x.is_finite() || f64::from(x.abs()) > crate::hypermesh::MAX_MAGNITUDE),
+            .position(|x| !x.is_finite() || f64::from(x.abs()) > crate::data::MAX_MAGNITUDE),
         ArrayValues::F64(v) => v
             .iter()
-            .position(|x| !x.is_finite() || x.abs() > crate::hypermesh::MAX_MAGNITUDE),
+            .position(|x| !x.is_finite() || x.abs() > crate::data::MAX_MAGNITUDE),
     };
     if let Some(i) = bad {
         return Err(ParseError::new(
@@ -431,7 +447,7 @@ fn check_array(source: &str, a: &super::Array, want: usize, what: &str) -> Resul
                 what.trim_end_matches('s'),
                 i / a.components + 1,
                 a.values.get(i),
-                crate::hypermesh::MAX_MAGNITUDE
+                crate::data::MAX_MAGNITUDE
             ),
         ));
     }
@@ -458,8 +474,32 @@ fn data_type(scalar: ScalarType, components: usize) -> DataType {
     }
 }
 
-/// Point data: float stays float, integers that fit in `int` become int, the rest double.
+/// 3-component arrays (velocities, displacements, colours) are `float[3]`, the vector type of
+/// HyperMesh (SPEC §7, §8: EdgeElem gives float[3], IDENTITY takes float[3]): values are
+/// rounded to the nearest `float`. An array with a value beyond `float`'s range (±3.4e38)
+/// keeps its type rather than turning into infinities.
+fn as_float3(ty: DataType, values: Values) -> (DataType, Values) {
+    if ty.components() != 3 || ty.scalar == ScalarType::Float {
+        return (ty, values);
+    }
+    let n = values.len();
+    if (0..n).any(|i| values.get(i).abs() > f64::from(f32::MAX)) {
+        return (ty, values);
+    }
+    (
+        DataType::array(ScalarType::Float, 3),
+        Values::F32((0..n).map(|i| values.get(i) as f32).collect()),
+    )
+}
+
+/// Point data: float stays float, integers that fit in `int` become int, the rest double;
+/// 3-component arrays are `float[3]` ([`as_float3`]).
 fn point_values(v: &ArrayValues, components: usize) -> (DataType, Values) {
+    let (ty, values) = point_values_as_stored(v, components);
+    as_float3(ty, values)
+}
+
+fn point_values_as_stored(v: &ArrayValues, components: usize) -> (DataType, Values) {
     match v {
         ArrayValues::F32(x) => (
             data_type(ScalarType::Float, components),
@@ -492,8 +532,14 @@ fn int_values(x: &[i64], components: usize, allow_byte: bool) -> (DataType, Valu
     )
 }
 
-/// Cell data, one row per tetrahedron (its parent cell's row).
+/// Cell data, one row per tetrahedron (its parent cell's row); 3-component arrays are
+/// `float[3]` ([`as_float3`]).
 fn cell_values(v: &ArrayValues, n: usize, parent: &[u32]) -> (DataType, Values) {
+    let (ty, values) = cell_values_as_stored(v, n, parent);
+    as_float3(ty, values)
+}
+
+fn cell_values_as_stored(v: &ArrayValues, n: usize, parent: &[u32]) -> (DataType, Values) {
     let pick = |i: usize| (0..n).map(move |c| (parent[i] as usize) * n + c);
     match v {
         ArrayValues::F32(x) => (
@@ -543,11 +589,25 @@ mod tests {
     }
 
     #[test]
+    fn three_component_arrays_are_float3() {
+        let (ty, v) = point_values(&ArrayValues::F64(vec![0.1, 2.0, -3.5, 1e-3, 0.0, 7.0]), 3);
+        assert_eq!(ty, DataType::array(ScalarType::Float, 3));
+        assert_eq!(v, Values::F32(vec![0.1, 2.0, -3.5, 1e-3, 0.0, 7.0]));
+        let (ty, _) = cell_values(&ArrayValues::Int(vec![1, 2, 3]), 3, &[0, 0]);
+        assert_eq!(ty, DataType::array(ScalarType::Float, 3));
+        // Other component counts keep their type; values beyond float's range too.
+        let (ty, _) = point_values(&ArrayValues::F64(vec![0.1, 2.0]), 2);
+        assert_eq!(ty, DataType::array(ScalarType::Double, 2));
+        let (ty, _) = point_values(&ArrayValues::F64(vec![1e100, 0.0, 0.0]), 3);
+        assert_eq!(ty, DataType::array(ScalarType::Double, 3));
+    }
+
+    #[test]
     fn every_numbering_of_a_hexahedron_fills_it() {
         let p = cube();
         // Each rotation of the global numbering puts the smallest node at another corner.
-        for shift in 0..8u64 {
-            let global: Vec<u64> = (0..8).map(|i| (i + shift) % 8).collect();
+        for shift in 0..8u32 {
+            let global: Vec<u32> = (0..8).map(|i| (i + shift) % 8).collect();
             let tets = split_cell(cell_type::HEXAHEDRON, &global);
             assert_eq!(tets.len(), 6);
             assert!((volume_of(&p, &tets) - 1.0).abs() < 1e-12, "shift {shift}");
@@ -567,8 +627,8 @@ mod tests {
             [1.0, 0.0, 1.0],
             [0.0, 1.0, 1.0],
         ];
-        for shift in 0..6u64 {
-            let global: Vec<u64> = (0..6).map(|i| (i * 5 + shift) % 6).collect();
+        for shift in 0..6u32 {
+            let global: Vec<u32> = (0..6).map(|i| (i * 5 + shift) % 6).collect();
             let tets = split_cell(cell_type::WEDGE, &global);
             assert_eq!(tets.len(), 3);
             assert!((volume_of(&w, &tets) - 0.5).abs() < 1e-12);
@@ -580,8 +640,8 @@ mod tests {
             [0.0, 1.0, 0.0],
             [0.5, 0.5, 1.0],
         ];
-        for shift in 0..5u64 {
-            let global: Vec<u64> = (0..5).map(|i| (i + shift) % 5).collect();
+        for shift in 0..5u32 {
+            let global: Vec<u32> = (0..5).map(|i| (i + shift) % 5).collect();
             let tets = split_cell(cell_type::PYRAMID, &global);
             assert_eq!(tets.len(), 2);
             assert!((volume_of(&py, &tets) - 1.0 / 3.0).abs() < 1e-12);
@@ -591,14 +651,14 @@ mod tests {
     #[test]
     fn a_shared_quad_face_is_cut_the_same_way_from_both_sides() {
         // Two hexahedra stacked along z share the face 4 5 6 7 (global numbers).
-        let lower: Vec<u64> = (0..8).collect();
-        let upper: Vec<u64> = (4..12).collect();
-        let face_tris = |ty: u8, g: &[u64]| -> Vec<[u64; 3]> {
+        let lower: Vec<u32> = (0..8).collect();
+        let upper: Vec<u32> = (4..12).collect();
+        let face_tris = |ty: u8, g: &[u32]| -> Vec<[u32; 3]> {
             let mut out = Vec::new();
             for t in split_cell(ty, g) {
                 let nodes = t.map(|k| g[k]);
                 for skip in 0..4 {
-                    let mut tri: Vec<u64> =
+                    let mut tri: Vec<u32> =
                         (0..4).filter(|&k| k != skip).map(|k| nodes[k]).collect();
                     if tri.iter().all(|n| (4..8).contains(n)) {
                         tri.sort_unstable();

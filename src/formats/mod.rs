@@ -15,6 +15,7 @@
 //! content no reader recognises gets a clear error naming the formats tried.
 
 pub mod build;
+pub mod layout;
 pub mod msh;
 mod text;
 pub mod vtk_legacy;
@@ -122,8 +123,10 @@ impl Array {
 pub struct Cells {
     pub types: Vec<u8>,
     pub offsets: Vec<usize>,
-    /// 0-based node indices.
-    pub connectivity: Vec<u64>,
+    /// 0-based node indices (32 bits, as every mesh VoRANG builds: half the memory of 64-bit
+    /// indices while a large file is read). An index that does not fit is stored as
+    /// `u32::MAX`, which is out of range for every mesh and reported as such.
+    pub connectivity: Vec<u32>,
 }
 
 impl Cells {
@@ -136,7 +139,7 @@ impl Cells {
     }
 
     /// The nodes of cell `i`.
-    pub fn nodes(&self, i: usize) -> &[u64] {
+    pub fn nodes(&self, i: usize) -> &[u32] {
         &self.connectivity[self.offsets[i]..self.offsets[i + 1]]
     }
 
@@ -146,7 +149,8 @@ impl Cells {
             self.offsets.push(0);
         }
         self.types.push(ty);
-        self.connectivity.extend_from_slice(nodes);
+        self.connectivity
+            .extend(nodes.iter().map(|&n| u32::try_from(n).unwrap_or(u32::MAX)));
         self.offsets.push(self.connectivity.len());
     }
 }
@@ -166,6 +170,9 @@ pub struct MeshDescription {
     pub point_arrays: Vec<Array>,
     /// Cell arrays in file order (one value per cell of [`Cells`], all cell types).
     pub cell_arrays: Vec<Array>,
+    /// Dataset-level arrays of any length (VTK `<FieldData>`): only those VoRANG writes
+    /// ([`layout`]) are read.
+    pub field_arrays: Vec<Array>,
     /// The line of the points and of the cells, for messages about them.
     pub points_line: usize,
     pub cells_line: usize,
@@ -174,6 +181,11 @@ pub struct MeshDescription {
 
 /// A reader: a whole file's bytes and its name (for messages) to a description.
 pub type ReadFn = fn(&[u8], &str) -> Result<MeshDescription, ParseError>;
+
+/// A writer: a volume to a file (the options choose HyperMesh's encoding and layout; other
+/// formats have one way of writing). Returns warnings about what the format cannot hold.
+pub type WriteFn =
+    fn(&Volume, &Path, crate::hypermesh::WriteOptions) -> Result<Vec<Warning>, Error>;
 
 /// One registry entry.
 pub struct Format {
@@ -185,8 +197,15 @@ pub struct Format {
     /// Reads a whole file into a description; `None` for HyperMesh (read by
     /// [`crate::hypermesh`]).
     pub read: Option<ReadFn>,
+    /// Writes a volume in this format; `None` for formats VoRANG only reads.
+    pub write: Option<WriteFn>,
+}
+
+impl Format {
     /// Whether [`save_volume`] can write it.
-    pub writable: bool,
+    pub fn writable(&self) -> bool {
+        self.write.is_some()
+    }
 }
 
 /// Every format, HyperMesh first (the fallback for unknown extensions when writing).
@@ -196,28 +215,30 @@ pub const FORMATS: &[Format] = &[
         extensions: &["hmesh", "hmascii", "hmbin", "bin", "asc", "hm"],
         sniff: |b| starts_after_space(b, b"# HyperMesh") || starts_after_space(b, b"#HyperMesh"),
         read: None,
-        writable: true,
+        write: Some(|vol, path, opts| {
+            crate::hypermesh::save_volume(vol, path, opts).map(|()| Vec::new())
+        }),
     },
     Format {
         name: "VTK XML UnstructuredGrid",
         extensions: &["vtu"],
         sniff: vtu::sniff,
         read: Some(vtu::read),
-        writable: true,
+        write: Some(|vol, path, _| vtu::save(vol, path)),
     },
     Format {
         name: "legacy VTK",
         extensions: &["vtk"],
         sniff: vtk_legacy::sniff,
         read: Some(vtk_legacy::read),
-        writable: false,
+        write: None,
     },
     Format {
         name: "Gmsh",
         extensions: &["msh"],
         sniff: msh::sniff,
         read: Some(msh::read),
-        writable: false,
+        write: None,
     },
 ];
 
@@ -320,6 +341,14 @@ pub fn read_description_file(path: &Path) -> Result<Option<MeshDescription>, Err
     }
 }
 
+impl Volume {
+    /// Reads a mesh file of any supported format (HyperMesh, `.vtu`, `.vtk`, `.msh`; see
+    /// [`crate::formats`]). Warnings (e.g. re-oriented cells) are returned, not printed.
+    pub fn load(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
+        load_volume(path)
+    }
+}
+
 /// Loads a volume from any supported file (`volume FILE`). HyperMesh files go through the
 /// HyperMesh reader unchanged; warnings are returned, not printed.
 pub fn load_volume(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
@@ -403,15 +432,12 @@ pub fn save_volume(
     opts: crate::hypermesh::WriteOptions,
 ) -> Result<Vec<Warning>, Error> {
     let format = format_for_writing(path);
-    match format.name {
-        "VTK XML UnstructuredGrid" => vtu::save(vol, path),
-        _ if format.writable => {
-            crate::hypermesh::save_volume(vol, path, opts)?;
-            Ok(Vec::new())
-        }
-        other => Err(Error::Invalid(format!(
-            "{}: VoRANG cannot write {other} files; write .vtu (VTK XML) or a HyperMesh file",
-            path.display()
+    match format.write {
+        Some(write) => write(vol, path, opts),
+        None => Err(Error::Invalid(format!(
+            "{}: VoRANG cannot write {} files; write .vtu (VTK XML) or a HyperMesh file",
+            path.display(),
+            format.name
         ))),
     }
 }

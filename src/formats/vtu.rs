@@ -21,17 +21,15 @@
 //! Writing ([`save`]) produces what ParaView reads fastest: appended raw data, zlib-compressed,
 //! `UInt64` headers, little-endian.
 
-use std::collections::HashMap;
 use std::io::Write as _;
 use std::path::Path;
 
 use base64::Engine as _;
 use quick_xml::events::{BytesStart, Event};
 
-use super::{Array, ArrayValues, MeshDescription, cell_type, line_of};
+use super::{Array, ArrayValues, MeshDescription, cell_type, layout, line_of};
+use crate::data::{ScalarType, Values};
 use crate::error::{Error, ParseError, Warning};
-use crate::field::Interpolator;
-use crate::hypermesh::{ElementKind, ScalarType, Values};
 use crate::volume::Volume;
 
 pub fn sniff(head: &[u8]) -> bool {
@@ -96,6 +94,8 @@ enum Section {
     CellData,
     Points,
     Cells,
+    /// Dataset-level arrays (`<FieldData>`); only VoRANG's own (`VoRANG_…`) are read.
+    FieldData,
 }
 
 /// One `<DataArray>` as declared.
@@ -107,9 +107,49 @@ struct Decl {
     ty: NumType,
     components: usize,
     format: DataFormat,
+    /// `NumberOfTuples` (FieldData arrays say how long they are).
+    tuples: Option<usize>,
     line: usize,
-    /// Inline content (ascii numbers or base64 text).
-    text: Vec<u8>,
+    /// Inline content (ascii numbers or base64 text), as places in the file: a large inline
+    /// array is never copied before it is decoded.
+    text: Vec<TextPart>,
+}
+
+/// A piece of a `DataArray`'s inline content.
+#[derive(Debug)]
+enum TextPart {
+    /// Bytes `start..end` of the file.
+    At(usize, usize),
+    /// Content the XML reader did not borrow from the file (not expected; kept for safety).
+    Owned(Vec<u8>),
+}
+
+impl TextPart {
+    /// The part of `t` (content of an event borrowed from `file`).
+    fn of(t: &[u8], file: &[u8]) -> TextPart {
+        let start = (t.as_ptr() as usize).wrapping_sub(file.as_ptr() as usize);
+        if start <= file.len() && t.len() <= file.len() - start {
+            TextPart::At(start, start + t.len())
+        } else {
+            TextPart::Owned(t.to_vec())
+        }
+    }
+}
+
+/// The inline content of `d`: borrowed from the file when it is one piece (the usual case).
+fn decl_text<'a>(s: &Settings<'a>, d: &'a Decl) -> std::borrow::Cow<'a, [u8]> {
+    use std::borrow::Cow;
+    let part = |p: &'a TextPart| -> &'a [u8] {
+        match p {
+            TextPart::At(a, b) => &s.file[*a..*b],
+            TextPart::Owned(v) => v,
+        }
+    };
+    match d.text.as_slice() {
+        [] => Cow::Borrowed(&[]),
+        [one] => Cow::Borrowed(part(one)),
+        many => Cow::Owned(many.iter().flat_map(|p| part(p).iter().copied()).collect()),
+    }
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -122,6 +162,8 @@ enum DataFormat {
 /// File-wide settings from `<VTKFile …>` and `<AppendedData …>`.
 struct Settings<'a> {
     name: &'a str,
+    /// The whole file (inline array contents are places in it).
+    file: &'a [u8],
     big_endian: bool,
     header64: bool,
     compressor: Compressor,
@@ -283,7 +325,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                     b"CellData" if !empty => section = Section::CellData,
                     b"Points" if !empty => section = Section::Points,
                     b"Cells" if !empty => section = Section::Cells,
-                    b"FieldData" if !empty => section = Section::Other,
+                    b"FieldData" if !empty => section = Section::FieldData,
                     b"DataArray" => {
                         let line = line_of(bytes, pos);
                         let ty_s = attr(e, b"type").unwrap_or_default();
@@ -327,6 +369,8 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                             ty,
                             components,
                             format,
+                            tuples: attr(e, b"NumberOfTuples")
+                                .and_then(|t| t.trim().parse::<usize>().ok()),
                             line,
                             text: Vec::new(),
                         };
@@ -356,12 +400,12 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
             }
             Event::Text(t) => {
                 if let (Some(d), 0) = (&mut current, nested) {
-                    d.text.extend_from_slice(&t);
+                    d.text.push(TextPart::of(&t, bytes));
                 }
             }
             Event::CData(t) => {
                 if let (Some(d), 0) = (&mut current, nested) {
-                    d.text.extend_from_slice(&t);
+                    d.text.push(TextPart::of(&t, bytes));
                 }
             }
             Event::End(_) if nested > 0 => nested -= 1,
@@ -449,6 +493,7 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
     offsets.dedup();
     let settings = Settings {
         name,
+        file: bytes,
         big_endian,
         header64,
         compressor,
@@ -527,22 +572,41 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
             if desc.cells_line == 0 {
                 desc.cells_line = conn_d.line;
             }
-            let types = decode(&settings, types_d, piece.cells)?;
-            let offs = decode(&settings, off_d, piece.cells)?;
-            let (ArrayValues::Int(offs), ArrayValues::Int(types)) = (offs, types) else {
-                return Err(ParseError::new(
-                    name,
-                    off_d.line,
-                    "offsets and types must be integer arrays",
-                ));
+            // Decoded as 32-bit numbers (values that do not fit are kept aside for the
+            // messages below): no 64-bit copy of the two per-cell arrays.
+            let integers = |d: &Decl| {
+                if matches!(d.ty, NumType::F32 | NumType::F64) {
+                    Err(ParseError::new(
+                        name,
+                        off_d.line,
+                        "offsets and types must be integer arrays",
+                    ))
+                } else {
+                    Ok(())
+                }
+            };
+            integers(types_d)?;
+            integers(off_d)?;
+            let (types, types_outside) = decode_indices(&settings, types_d, piece.cells, 256)?;
+            let (offs, offs_outside) =
+                decode_indices(&settings, off_d, piece.cells, u32::MAX as usize)?;
+            let original = |v: &[u32], outside: &Outside, i: usize| -> i64 {
+                match outside.iter().find(|(at, _)| *at == i) {
+                    Some(&(_, x)) => x,
+                    None => i64::from(v[i]),
+                }
             };
             // Types and offsets first, so that they are checked and stored compactly before
             // the connectivity, the largest array, is decoded.
             let conn_base = desc.cells.connectivity.len();
             let first_cell = desc.cells.types.len();
             let mut prev = 0i64;
-            for (i, (&o, &t)) in offs.iter().zip(&types).enumerate() {
-                if o < prev || o > 1 << 48 {
+            desc.cells.types.reserve(types.len());
+            desc.cells.offsets.reserve(offs.len());
+            for i in 0..offs.len().min(types.len()) {
+                let o = original(&offs, &offs_outside, i);
+                let t = original(&types, &types_outside, i);
+                if o < prev || o >= i64::from(u32::MAX) {
                     return Err(ParseError::new(
                         name,
                         off_d.line,
@@ -581,15 +645,20 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                 prev = o;
             }
             drop((offs, types));
-            // The connectivity's length is what the last offset says.
-            let conn = decode(&settings, conn_d, prev as usize)?;
-            let ArrayValues::Int(conn) = conn else {
+            // The connectivity's length is what the last offset says; decoded straight into
+            // 32-bit indices, an index outside the piece's points kept aside for the message.
+            if desc.nodes.len() >= u32::MAX as usize {
                 return Err(ParseError::new(
                     name,
-                    conn_d.line,
-                    "connectivity must be an integer array",
+                    piece.line,
+                    format!(
+                        "{} points in all: VoRANG indexes at most {} points",
+                        desc.nodes.len(),
+                        u32::MAX - 1
+                    ),
                 ));
-            };
+            }
+            let (conn, outside) = decode_indices(&settings, conn_d, prev as usize, piece.points)?;
             for i in first_cell..desc.cells.types.len() {
                 let t = desc.cells.types[i];
                 if cell_type::volume_nodes(t).is_none() {
@@ -599,10 +668,11 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                     desc.cells.offsets[i] - conn_base,
                     desc.cells.offsets[i + 1] - conn_base,
                 );
-                if let Some(&bad) = conn[a..b]
-                    .iter()
-                    .find(|&&n| n < 0 || n as usize >= piece.points)
-                {
+                if let Some(k) = conn[a..b].iter().position(|&n| n as usize >= piece.points) {
+                    let bad = outside
+                        .iter()
+                        .find(|(at, _)| *at == a + k)
+                        .map_or(i64::from(conn[a + k]), |(_, v)| *v);
                     return Err(ParseError::new(
                         name,
                         conn_d.line,
@@ -615,15 +685,15 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                     ));
                 }
             }
-            // Validated: now the whole list, converted in place (no second copy of the
-            // largest array of the file).
-            let shifted = conn
-                .into_iter()
-                .map(|n| (n.max(0) as u64).saturating_add(node_base));
-            if desc.cells.connectivity.is_empty() {
-                desc.cells.connectivity = shifted.collect();
+            // Validated: the piece's indices follow the points of the pieces before it (in
+            // place, no second copy of the largest array of the file).
+            let base = node_base as u32;
+            if desc.cells.connectivity.is_empty() && base == 0 {
+                desc.cells.connectivity = conn;
             } else {
-                desc.cells.connectivity.extend(shifted);
+                desc.cells
+                    .connectivity
+                    .extend(conn.into_iter().map(|n| n.saturating_add(base)));
             }
         }
         // Point and cell arrays, by name across pieces.
@@ -669,6 +739,27 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
             }
         }
     }
+    // VoRANG's own FieldData arrays (its layout, edges, triangles, data on them); other
+    // FieldData (time values, provenance) are not per point or cell and are not read.
+    for d in decls
+        .iter()
+        .filter(|d| d.section == Section::FieldData && d.name.starts_with("VoRANG_"))
+    {
+        let tuples = d.tuples.ok_or_else(|| {
+            ParseError::new(
+                name,
+                d.line,
+                format!("FieldData array \"{}\" needs NumberOfTuples", d.name),
+            )
+        })?;
+        let v = decode(&settings, d, tuples.saturating_mul(d.components))?;
+        desc.field_arrays.push(Array {
+            name: d.name.clone(),
+            components: d.components,
+            values: v,
+            line: d.line,
+        });
+    }
     for (i, a) in desc
         .point_arrays
         .iter_mut()
@@ -697,27 +788,63 @@ fn append_values(dest: &mut ArrayValues, v: ArrayValues) {
 
 /// Decodes one array's `count` numbers.
 fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseError> {
-    let what = if d.name.is_empty() {
+    if d.format == DataFormat::Ascii {
+        want_bytes(s, d, count)?;
+        return ascii_values(s, d, count, &what_of(d));
+    }
+    let sink = Sink::new(d.ty, s.big_endian, 0);
+    Ok(decode_into(s, d, count, sink)?.values)
+}
+
+/// The bytes `count` values take, refused when more than the file can hold (allocation stays
+/// bounded by the file's size).
+fn want_bytes(s: &Settings, d: &Decl, count: usize) -> Result<usize, ParseError> {
+    count
+        .checked_mul(d.ty.size())
+        .filter(|&b| b <= s.limit)
+        .ok_or_else(|| {
+            ParseError::new(
+                s.name,
+                d.line,
+                format!(
+                    "{}: {count} values are more than this file can hold",
+                    what_of(d)
+                ),
+            )
+        })
+}
+
+fn what_of(d: &Decl) -> String {
+    if d.name.is_empty() {
         "DataArray".to_string()
     } else {
         format!("DataArray \"{}\"", d.name)
-    };
+    }
+}
+
+/// What a [`Sink`] produced.
+struct Decoded {
+    values: ArrayValues,
+    index: Option<IndexOut>,
+}
+
+/// Decodes a binary or appended array's `count` numbers into `sink`.
+fn decode_into(
+    s: &Settings,
+    d: &Decl,
+    count: usize,
+    mut sink: Sink,
+) -> Result<Decoded, ParseError> {
+    let what = what_of(d);
     let err = |msg: String| ParseError::new(s.name, d.line, format!("{what}: {msg}"));
-    let want_bytes = count
-        .checked_mul(d.ty.size())
-        .filter(|&b| b <= s.limit)
-        .ok_or_else(|| err(format!("{count} values are more than this file can hold")))?;
-    let mut sink = Sink::new(d.ty, s.big_endian, want_bytes);
+    let want_bytes = want_bytes(s, d, count)?;
+    sink.want = want_bytes;
+    let sink = &mut sink;
     match d.format {
-        DataFormat::Ascii => return ascii_values(s, d, count, &what),
+        DataFormat::Ascii => unreachable!("ascii arrays are decoded as text"),
         DataFormat::Binary => {
-            let text: Vec<u8> = d
-                .text
-                .iter()
-                .copied()
-                .filter(|b| !b.is_ascii_whitespace())
-                .collect();
-            binary_base64(s, &text, want_bytes, &mut sink).map_err(&err)?;
+            let text = decl_text(s, d);
+            binary_base64(s, &without_whitespace(&text), want_bytes, sink).map_err(&err)?;
         }
         DataFormat::Appended(offset) => {
             let Some((app, start, raw)) = s.appended else {
@@ -733,19 +860,15 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
             }
             let o = offset.min(app.len() as u64) as usize;
             if raw {
-                binary_raw(s, &app[o..], start + o, want_bytes, &mut sink).map_err(&err)?;
+                binary_raw(s, &app[o..], start + o, want_bytes, sink).map_err(&err)?;
             } else {
                 let end = s
                     .offsets
                     .iter()
                     .find(|&&x| x > offset)
                     .map_or(app.len(), |&x| (x as usize).min(app.len()));
-                let text: Vec<u8> = app[o..end]
-                    .iter()
-                    .copied()
-                    .filter(|b| !b.is_ascii_whitespace())
-                    .collect();
-                binary_base64(s, &text, want_bytes, &mut sink).map_err(&err)?;
+                binary_base64(s, &without_whitespace(&app[o..end]), want_bytes, sink)
+                    .map_err(&err)?;
             }
         }
     }
@@ -761,7 +884,102 @@ fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseErro
             sink.seen, d.ty
         )));
     }
-    sink.finish().map_err(err)
+    let index = sink.index.take();
+    let values = std::mem::replace(sink, Sink::new(d.ty, false, 0))
+        .finish()
+        .map_err(err)?;
+    Ok(Decoded { values, index })
+}
+
+/// Base64 text without its whitespace: borrowed when only the ends have any (the usual case).
+fn without_whitespace(text: &[u8]) -> std::borrow::Cow<'_, [u8]> {
+    let start = text
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(text.len());
+    let end = text
+        .iter()
+        .rposition(|b| !b.is_ascii_whitespace())
+        .map_or(start, |e| e + 1);
+    let inner = &text[start..end.max(start)];
+    if inner.iter().any(u8::is_ascii_whitespace) {
+        inner
+            .iter()
+            .copied()
+            .filter(|b| !b.is_ascii_whitespace())
+            .collect::<Vec<u8>>()
+            .into()
+    } else {
+        inner.into()
+    }
+}
+
+/// Decodes the connectivity: `count` 0-based indices of the piece's `points`, straight into
+/// 32-bit storage (a large file's biggest array never exists as 64-bit numbers). An index
+/// outside `0…points-1` is stored as `u32::MAX`; the first few such are returned with their
+/// positions and values, for messages.
+fn decode_indices(
+    s: &Settings,
+    d: &Decl,
+    count: usize,
+    points: usize,
+) -> Result<(Vec<u32>, Outside), ParseError> {
+    let limit = points.min(u32::MAX as usize) as u64;
+    let integer = !matches!(d.ty, NumType::F32 | NumType::F64);
+    if d.format == DataFormat::Ascii || !integer {
+        let ArrayValues::Int(v) = decode(s, d, count)? else {
+            return Err(ParseError::new(
+                s.name,
+                d.line,
+                "connectivity must be an integer array",
+            ));
+        };
+        let mut outside = Vec::new();
+        let conn = v
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| match u32::try_from(x) {
+                Ok(n) if u64::from(n) < limit => n,
+                _ => {
+                    if outside.len() < MAX_OUTSIDE {
+                        outside.push((i, x));
+                    }
+                    u32::MAX
+                }
+            })
+            .collect();
+        return Ok((conn, outside));
+    }
+    let mut sink = Sink::new(d.ty, s.big_endian, 0);
+    sink.index = Some(IndexOut {
+        v: Vec::new(),
+        limit,
+        outside: Vec::new(),
+    });
+    match decode_into(s, d, count, sink)? {
+        Decoded {
+            index: Some(out), ..
+        } => Ok((out.v, out.outside)),
+        _ => Err(ParseError::new(
+            s.name,
+            d.line,
+            "connectivity must be an integer array",
+        )),
+    }
+}
+
+/// Out-of-range indices with their positions (the first few), for messages.
+type Outside = Vec<(usize, i64)>;
+
+/// How many out-of-range indices [`decode_indices`] keeps for messages.
+const MAX_OUTSIDE: usize = 16;
+
+/// 32-bit index output of a [`Sink`].
+struct IndexOut {
+    v: Vec<u32>,
+    /// Indices must be below this.
+    limit: u64,
+    outside: Outside,
 }
 
 /// Turns decoded bytes into values as they arrive (block by block for compressed data), so a
@@ -774,6 +992,8 @@ struct Sink {
     seen: usize,
     carry: Vec<u8>,
     out: ArrayValues,
+    /// Set for the connectivity: 32-bit indices instead of `out`.
+    index: Option<IndexOut>,
     error: Option<String>,
 }
 
@@ -791,6 +1011,7 @@ impl Sink {
             seen: 0,
             carry: Vec::new(),
             out,
+            index: None,
             error: None,
         }
     }
@@ -799,6 +1020,10 @@ impl Sink {
     /// counts alone could ask for anything).
     fn reserve(&mut self, bytes: usize) {
         let n = bytes.min(self.want) / self.ty.size();
+        if let Some(idx) = &mut self.index {
+            idx.v.reserve_exact(n);
+            return;
+        }
         match &mut self.out {
             ArrayValues::F32(v) => v.reserve_exact(n),
             ArrayValues::F64(v) => v.reserve_exact(n),
@@ -826,6 +1051,10 @@ impl Sink {
     }
 
     fn convert(&mut self, data: &[u8]) {
+        if let Some(idx) = &mut self.index {
+            convert_indices(data, self.ty, self.big, idx);
+            return;
+        }
         if let Err(e) = convert_into(data, self.ty, self.big, &mut self.out) {
             self.error.get_or_insert(e);
         }
@@ -839,8 +1068,81 @@ impl Sink {
     }
 }
 
+/// Appends the integers in `data` to `out` as 32-bit indices (see [`decode_indices`]).
+fn convert_indices(data: &[u8], ty: NumType, big: bool, out: &mut IndexOut) {
+    let IndexOut { v, limit, outside } = out;
+    let limit = *limit;
+    let first = v.len();
+    let mut check = |i: usize, x: i64| -> u32 {
+        if (0..limit as i64).contains(&x) {
+            x as u32
+        } else {
+            if outside.len() < MAX_OUTSIDE {
+                outside.push((first + i, x));
+            }
+            u32::MAX
+        }
+    };
+    let size = ty.size();
+    let chunks = data.chunks_exact(size);
+    match (ty, big) {
+        (NumType::I64, false) => v.extend(chunks.enumerate().map(|(i, c)| {
+            check(
+                i,
+                i64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]),
+            )
+        })),
+        (NumType::I32, false) => v.extend(
+            chunks
+                .enumerate()
+                .map(|(i, c)| check(i, i64::from(i32::from_le_bytes([c[0], c[1], c[2], c[3]])))),
+        ),
+        _ => {
+            let mut tmp = ArrayValues::Int(Vec::with_capacity(data.len() / size));
+            let result = convert_into(data, ty, big, &mut tmp);
+            if let (Ok(()), ArrayValues::Int(t)) = (result, tmp) {
+                v.extend(t.into_iter().enumerate().map(|(i, x)| check(i, x)));
+            } else {
+                // A UInt64 beyond i64: out of range like any other.
+                let n = data.len() / size;
+                v.extend((0..n).map(|i| check(i, -1)));
+            }
+        }
+    }
+}
+
 fn convert_into(data: &[u8], ty: NumType, big: bool, out: &mut ArrayValues) -> Result<(), String> {
     let size = ty.size();
+    // The common cases, little-endian and whole numbers of elements, in tight loops that the
+    // compiler vectorises (large connectivity arrays spend most of their reading time here).
+    if !big {
+        let chunks = data.chunks_exact(size);
+        let four = |c: &[u8]| [c[0], c[1], c[2], c[3]];
+        let eight = |c: &[u8]| [c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]];
+        match (ty, &mut *out) {
+            (NumType::F32, ArrayValues::F32(v)) => {
+                v.extend(chunks.map(|c| f32::from_le_bytes(four(c))));
+                return Ok(());
+            }
+            (NumType::F64, ArrayValues::F64(v)) => {
+                v.extend(chunks.map(|c| f64::from_le_bytes(eight(c))));
+                return Ok(());
+            }
+            (NumType::I64, ArrayValues::Int(v)) => {
+                v.extend(chunks.map(|c| i64::from_le_bytes(eight(c))));
+                return Ok(());
+            }
+            (NumType::I32, ArrayValues::Int(v)) => {
+                v.extend(chunks.map(|c| i64::from(i32::from_le_bytes(four(c)))));
+                return Ok(());
+            }
+            (NumType::U8, ArrayValues::Int(v)) => {
+                v.extend(data.iter().map(|&b| i64::from(b)));
+                return Ok(());
+            }
+            _ => {}
+        }
+    }
     let word = |chunk: &[u8]| -> [u8; 8] {
         let mut w = [0u8; 8];
         if big {
@@ -888,7 +1190,8 @@ fn ascii_values(
     count: usize,
     what: &str,
 ) -> Result<ArrayValues, ParseError> {
-    let text = std::str::from_utf8(&d.text)
+    let text = decl_text(s, d);
+    let text = std::str::from_utf8(&text)
         .map_err(|_| ParseError::new(s.name, d.line, format!("{what}: ascii data are not text")))?;
     let mut toks = text.split_ascii_whitespace();
     let line_of_tok = |k: usize| {
@@ -1309,6 +1612,8 @@ struct OutArray {
     name: String,
     ty: &'static str,
     components: usize,
+    /// `NumberOfTuples`, written for FieldData arrays.
+    tuples: Option<usize>,
     data: Vec<u8>,
 }
 
@@ -1316,14 +1621,25 @@ fn le<T: Copy>(v: &[T], f: impl Fn(T) -> Vec<u8>) -> Vec<u8> {
     v.iter().flat_map(|&x| f(x)).collect()
 }
 
-fn values_out(values: &Values) -> Option<(&'static str, Vec<u8>)> {
-    Some(match values {
+fn values_out(values: &Values) -> (&'static str, Vec<u8>) {
+    match values {
         Values::U8(v) => ("UInt8", v.clone()),
         Values::I16(v) => ("Int16", le(v, |x| x.to_le_bytes().to_vec())),
         Values::I32(v) => ("Int32", le(v, |x| x.to_le_bytes().to_vec())),
         Values::F32(v) => ("Float32", le(v, |x| x.to_le_bytes().to_vec())),
         Values::F64(v) => ("Float64", le(v, |x| x.to_le_bytes().to_vec())),
-    })
+    }
+}
+
+fn out_array(a: layout::NamedValues, field_data: bool) -> OutArray {
+    let (ty, data) = values_out(&a.values);
+    OutArray {
+        tuples: field_data.then(|| a.values.len() / a.components.max(1)),
+        name: a.name,
+        ty,
+        components: a.components,
+        data,
+    }
 }
 
 fn xml_escape(s: &str) -> String {
@@ -1331,13 +1647,16 @@ fn xml_escape(s: &str) -> String {
         .replace('<', "&lt;")
         .replace('>', "&gt;")
         .replace('"', "&quot;")
+        .replace('\n', "&#10;")
+        .replace('\r', "&#13;")
+        .replace('\t', "&#9;")
 }
 
-/// Writes a volume as `.vtu`: Linear fields as point arrays, Constant fields as cell arrays
-/// (each with the field's name, or `field<n>`), tetrahedra as VTK type 10. Fields of other
-/// interpolators have no VTK counterpart and are left out with a warning.
+/// Writes a volume as `.vtu`: every node data block as a point array and every cell data
+/// block as a cell array (named after the first field that uses it), tetrahedra as VTK type
+/// 10, and VoRANG's layout ([`layout`]) in `<FieldData>`, so that the file reads back as the
+/// identical volume. Nothing is left out, so the warnings are always empty.
 pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec<Warning>> {
-    let mut warnings = Vec::new();
     let m = &vol.mesh;
     let points = if vol.coord_type == ScalarType::Float
         && m.nodes()
@@ -1349,6 +1668,7 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
             name: "Points".into(),
             ty: "Float32",
             components: 3,
+            tuples: None,
             data: m
                 .nodes()
                 .iter()
@@ -1361,6 +1681,7 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
             name: "Points".into(),
             ty: "Float64",
             components: 3,
+            tuples: None,
             data: m
                 .nodes()
                 .iter()
@@ -1373,6 +1694,7 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
         name: "connectivity".into(),
         ty: "Int64",
         components: 1,
+        tuples: None,
         data: m
             .tets()
             .iter()
@@ -1384,6 +1706,7 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
         name: "offsets".into(),
         ty: "Int64",
         components: 1,
+        tuples: None,
         data: (1..=m.tet_count() as i64)
             .flat_map(|k| (4 * k).to_le_bytes())
             .collect(),
@@ -1392,57 +1715,31 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
         name: "types".into(),
         ty: "UInt8",
         components: 1,
+        tuples: None,
         data: vec![cell_type::TETRA; m.tet_count()],
     };
-    let mut point_data = Vec::new();
-    let mut cell_data = Vec::new();
-    let mut used_names: HashMap<String, usize> = HashMap::new();
-    for (i, f) in vol.data.fields.iter().enumerate() {
-        let raw = &vol.data.raw[f.sources[0]];
-        let dest = match (f.interpolator, raw.kind) {
-            (Interpolator::Linear, ElementKind::Node) => &mut point_data,
-            (Interpolator::Constant, ElementKind::Tetrahedron) => &mut cell_data,
-            _ => {
-                warnings.push(Warning {
-                    file: vol.source.clone(),
-                    line: None,
-                    message: format!(
-                        "field {i} ({}) is left out of the .vtu file: only Linear (point) and Constant (cell) fields have a VTK counterpart",
-                        f.interpolator.name()
-                    ),
-                });
-                continue;
-            }
-        };
-        if raw.ty.scalar == ScalarType::Complex {
-            warnings.push(Warning {
-                file: vol.source.clone(),
-                line: None,
-                message: format!("field {i} is complex and is left out of the .vtu file"),
-            });
-            continue;
-        }
-        let Some((ty, data)) = values_out(&raw.values) else {
-            continue;
-        };
-        let mut name = f.name.clone().unwrap_or_else(|| format!("field{i}"));
-        let n = used_names.entry(name.clone()).or_default();
-        *n += 1;
-        if *n > 1 {
-            name = format!("{name}_{i}");
-        }
-        dest.push(OutArray {
-            name,
-            ty,
-            components: raw.ty.components(),
-            data,
-        });
-    }
+    let parts = layout::parts(vol);
+    let point_data: Vec<OutArray> = parts
+        .point_arrays
+        .into_iter()
+        .map(|a| out_array(a, false))
+        .collect();
+    let cell_data: Vec<OutArray> = parts
+        .cell_arrays
+        .into_iter()
+        .map(|a| out_array(a, false))
+        .collect();
+    let field_data: Vec<OutArray> = parts
+        .field_arrays
+        .into_iter()
+        .map(|a| out_array(a, true))
+        .collect();
 
     // Compress everything first: the offsets in the XML depend on the compressed sizes.
     let mut blobs: Vec<Vec<u8>> = Vec::new();
-    let order: Vec<&OutArray> = point_data
+    let order: Vec<&OutArray> = field_data
         .iter()
+        .chain(point_data.iter())
         .chain(cell_data.iter())
         .chain([&points, &conn, &offsets, &types])
         .collect();
@@ -1461,8 +1758,11 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
         } else {
             String::new()
         };
+        let tuples = a
+            .tuples
+            .map_or(String::new(), |t| format!(" NumberOfTuples=\"{t}\""));
         format!(
-            "        <DataArray type=\"{}\" Name=\"{}\"{comps} format=\"appended\" offset=\"{off}\"/>\n",
+            "        <DataArray type=\"{}\" Name=\"{}\"{comps}{tuples} format=\"appended\" offset=\"{off}\"/>\n",
             a.ty,
             xml_escape(&a.name)
         )
@@ -1471,12 +1771,18 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
     x.push_str("<?xml version=\"1.0\"?>\n");
     x.push_str("<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\" header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n");
     x.push_str("  <UnstructuredGrid>\n");
+    let mut k = 0;
+    x.push_str("    <FieldData>\n");
+    for a in &field_data {
+        x.push_str(&decl(a, offs[k]));
+        k += 1;
+    }
+    x.push_str("    </FieldData>\n");
     x.push_str(&format!(
         "    <Piece NumberOfPoints=\"{}\" NumberOfCells=\"{}\">\n",
         m.node_count(),
         m.tet_count()
     ));
-    let mut k = 0;
     x.push_str("      <PointData>\n");
     for a in &point_data {
         x.push_str(&decl(a, offs[k]));
@@ -1502,7 +1808,7 @@ pub fn write(vol: &Volume, out: &mut impl std::io::Write) -> std::io::Result<Vec
         out.write_all(b)?;
     }
     out.write_all(b"\n  </AppendedData>\n</VTKFile>\n")?;
-    Ok(warnings)
+    Ok(Vec::new())
 }
 
 /// VTK's block size for compressed arrays.
@@ -1614,6 +1920,7 @@ mod tests {
         let text = b64().encode([0xffu8; 8]);
         let s = Settings {
             name: "x.vtu",
+            file: &[],
             big_endian: false,
             header64: true,
             compressor: Compressor::Zlib,
@@ -1635,6 +1942,42 @@ mod tests {
             let (h, d) = split_base64(text.as_bytes(), 4).unwrap();
             assert_eq!(h, header);
             assert_eq!(d, data);
+        }
+    }
+
+    #[test]
+    fn binary_connectivity_out_of_range_names_the_index() {
+        let b64arr = |bytes: Vec<u8>| {
+            let header = (bytes.len() as u32).to_le_bytes();
+            [b64().encode(header), b64().encode(bytes)].concat()
+        };
+        let points: Vec<u8> = [0.0f64, 0., 0., 1., 0., 0., 0., 1., 0., 0., 0., 1.]
+            .iter()
+            .flat_map(|x| x.to_le_bytes())
+            .collect();
+        for (bad, shown) in [(-1i64, "-1"), (1 << 40, "1099511627776"), (4, "4")] {
+            let conn: Vec<u8> = [0i64, 1, 2, bad]
+                .iter()
+                .flat_map(|x| x.to_le_bytes())
+                .collect();
+            let text = format!(
+                r#"<VTKFile type="UnstructuredGrid"><UnstructuredGrid><Piece NumberOfPoints="4" NumberOfCells="1">
+<Points><DataArray type="Float64" NumberOfComponents="3" format="binary">{}</DataArray></Points>
+<Cells><DataArray type="Int64" Name="connectivity" format="binary">{}</DataArray>
+<DataArray type="Int64" Name="offsets" format="ascii">4</DataArray>
+<DataArray type="UInt8" Name="types" format="ascii">10</DataArray></Cells>
+</Piece></UnstructuredGrid></VTKFile>"#,
+                b64arr(points.clone()),
+                b64arr(conn)
+            );
+            let e = read(text.as_bytes(), "c.vtu").unwrap_err();
+            assert_eq!(e.line, 3, "{e}");
+            assert!(
+                e.message.contains(&format!(
+                    "cell 1 refers to point {shown}, but the piece has 4"
+                )),
+                "{e}"
+            );
         }
     }
 }

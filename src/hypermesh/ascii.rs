@@ -5,7 +5,7 @@
 use std::io::{self, BufRead, Write};
 
 use super::input::Input;
-use super::types::{DataType, ScalarType, Values};
+use crate::data::{DataType, ScalarType, Values};
 use crate::error::ParseError;
 use crate::numbers::is_decimal;
 

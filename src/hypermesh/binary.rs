@@ -6,7 +6,7 @@ use std::io::{self, BufRead, Write};
 
 use super::ascii::BlockInfo;
 use super::input::Input;
-use super::types::{DataType, Values};
+use crate::data::{DataType, Values};
 use crate::error::ParseError;
 
 /// Bytes converted per step; bounds the scratch buffer whatever the block size.

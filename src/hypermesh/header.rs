@@ -5,8 +5,8 @@
 //! "Decisions (reading)") and then parsed statement by statement; every token remembers its line
 //! so that a bad declaration is reported on its own line.
 
-use super::materials::{Material, MaterialValue, Materials};
-use super::types::{DataType, ElementKind, ScalarType};
+use crate::data::{DataType, ElementKind, ScalarType};
+use crate::data::{Material, MaterialValue, Materials};
 use crate::error::ParseError;
 
 /// How the data blocks after the header are encoded.

@@ -32,19 +32,17 @@ mod ascii;
 mod binary;
 pub mod header;
 mod input;
-mod materials;
 pub mod read;
-mod types;
+mod volume;
 pub mod write;
 
 pub use header::Encoding;
 
-/// The largest magnitude a double in a file may have. Rendering adds and multiplies values
-/// (interpolation, differences along a ray, squares in the quadratic rule); beyond ~1e154 such
-/// sums overflow to infinity and give NaN pixels, so larger values are refused at load, with
-/// their line.
-pub const MAX_MAGNITUDE: f64 = 1e150;
-pub use materials::{Material, MaterialValue, Materials};
+// The data types live in [`crate::data`] (every format uses them); re-exported here, where
+// they were first defined, so that `hypermesh::DataType` etc. keep working.
+pub use crate::data::{
+    DataType, ElementKind, MAX_MAGNITUDE, Material, MaterialValue, Materials, RawData, ScalarType,
+    Values,
+};
 pub use read::{Geometry, HyperMeshFile, read, read_bytes, read_file};
-pub use types::{DataType, ElementKind, RawData, ScalarType, Values};
 pub use write::{Layout, WriteOptions, save_subset, save_volume, write_volume};

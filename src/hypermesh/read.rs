@@ -15,32 +15,15 @@ use super::header::{
     parse_title,
 };
 use super::input::Input;
-use super::types::{ElementKind, RawData, ScalarType, Values};
+use crate::data::{ElementKind, RawData, Values};
 use crate::error::{Error, ParseError, Warning};
 use crate::field::{Field, Interpolator, Origin};
 use crate::mesh::{EDGE_NODES, TetMesh};
 use crate::volume::DataSet;
 
-/// Marks "no element" in index lists (a missing neighbour in UpperLower, an edge of a cell that
-/// the file's edge list lacks).
-pub const NONE: u32 = u32::MAX;
+pub use crate::mesh::edges::{NONE, edge_index, edges_of_cells};
 
-/// The geometry of a file: the validated mesh and the optional edge and triangle lists.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Geometry {
-    pub mesh: TetMesh,
-    /// The type the coordinates were stored with (written back the same way).
-    pub coord_type: ScalarType,
-    /// `FromTo` per edge (0-based), if the file has edges. Edge direction matters for edge
-    /// elements.
-    pub edges: Option<Vec<[u32; 2]>>,
-    /// Node triples per triangle (0-based), if the file has triangles.
-    pub triangles: Option<Vec<[u32; 3]>>,
-    /// For each cell, its six edges (in [`EDGE_NODES`] order) as indices into `edges`, with bit 31
-    /// set where the file directs the edge against the local order; [`NONE`] where the edge
-    /// list lacks it. Present whenever `edges` is.
-    pub tet_edges: Option<Vec<[u32; 6]>>,
-}
+pub use crate::volume::Geometry;
 
 /// Everything a HyperMesh file holds.
 #[derive(Debug, Clone, PartialEq)]
@@ -81,6 +64,80 @@ pub fn read<R: BufRead>(
 ) -> Result<HyperMeshFile, ParseError> {
     let mut input = Input::new(reader, size);
     let (header, mut blocks, field_blocks) = read_blocks(&mut input, name)?;
+    let mut warnings = Vec::new();
+    let geometry = resolve_geometry(name, &header, &mut blocks, &mut warnings)?;
+    let data = resolve_data(name, &header, &mut blocks, &field_blocks)?;
+    Ok(HyperMeshFile {
+        name: name.to_string(),
+        encoding: header.encoding,
+        version: header.version,
+        geometry,
+        data,
+        warnings,
+    })
+}
+
+/// Reads a HyperMesh header held as text whose blocks are stored elsewhere (the layout that
+/// VoRANG writes into its `.vtu` files, [`crate::formats::layout`]): `block(decl, count)` gives
+/// the values of each declared block (`count` elements of `decl.ty`), or says why it cannot.
+/// The geometry, raw data and fields are then resolved exactly as for a file, so a volume
+/// written this way reads back identical. Every message points at `line` (where the text is
+/// stored in its file) and says which line of the text it is about.
+pub fn read_with_blocks(
+    name: &str,
+    text: &[u8],
+    line: usize,
+    mut block: impl FnMut(&BlockDecl, usize) -> Result<Values, String>,
+) -> Result<HyperMeshFile, ParseError> {
+    let at = |e: ParseError| {
+        ParseError::new(
+            name,
+            line,
+            format!("VoRANG layout, line {}: {}", e.line, e.message),
+        )
+    };
+    let mut lines = text.split(|&b| b == b'\n');
+    let (encoding, version) = parse_title(name, lines.next().unwrap_or_default()).map_err(at)?;
+    let mut parser = HeaderParser::new(name);
+    for (i, l) in lines.enumerate() {
+        parser.push_line(i + 2, l).map_err(at)?;
+    }
+    let header = parser.finish(encoding, version).map_err(at)?;
+    let field_blocks = resolve_field_markers(name, &header).map_err(at)?;
+    let mut blocks = Vec::with_capacity(header.blocks.len());
+    for d in &header.blocks {
+        let count = block_count(name, &header, d).map_err(at)?;
+        let values = block(d, count).map_err(|m| {
+            ParseError::new(
+                name,
+                line,
+                format!(
+                    "VoRANG layout, block @{} ({}): {m}",
+                    d.marker,
+                    d.target.describe()
+                ),
+            )
+        })?;
+        if values.len() != count.saturating_mul(d.ty.numbers()) {
+            return Err(ParseError::new(
+                name,
+                line,
+                format!(
+                    "VoRANG layout, block @{} ({}): {} numbers, but {count} × {} need {}",
+                    d.marker,
+                    d.target.describe(),
+                    values.len(),
+                    d.ty,
+                    count.saturating_mul(d.ty.numbers())
+                ),
+            ));
+        }
+        blocks.push(Some(Block {
+            values,
+            rows: None,
+            marker_line: line,
+        }));
+    }
     let mut warnings = Vec::new();
     let geometry = resolve_geometry(name, &header, &mut blocks, &mut warnings)?;
     let data = resolve_data(name, &header, &mut blocks, &field_blocks)?;
@@ -742,39 +799,6 @@ fn cell_edges(mesh: &TetMesh, list: &[[u32; 2]], l: &Located) -> Result<Vec<[u32
         )
     })?;
     Ok(edges_of_cells(mesh, list, &index))
-}
-
-/// Edge lookup by unordered node pair; `Err((edge, earlier edge))` for a repeated pair.
-pub(crate) fn edge_index(list: &[[u32; 2]]) -> Result<HashMap<(u32, u32), u32>, (usize, usize)> {
-    let mut index: HashMap<(u32, u32), u32> = HashMap::with_capacity(list.len());
-    for (e, &[a, b]) in list.iter().enumerate() {
-        if let Some(first) = index.insert((a.min(b), a.max(b)), e as u32) {
-            return Err((e, first as usize));
-        }
-    }
-    Ok(index)
-}
-
-/// For each cell, its six edges as indices into `list` (bit 31 set where the list directs the
-/// edge against the local order), [`NONE`] where the list lacks one.
-pub(crate) fn edges_of_cells(
-    mesh: &TetMesh,
-    list: &[[u32; 2]],
-    index: &HashMap<(u32, u32), u32>,
-) -> Vec<[u32; 6]> {
-    mesh.tets()
-        .iter()
-        .map(|tet| {
-            EDGE_NODES.map(|[i, j]| {
-                let (a, b) = (tet[i], tet[j]);
-                match index.get(&(a.min(b), a.max(b))) {
-                    Some(&e) if list[e as usize][0] == a => e,
-                    Some(&e) => e | 1 << 31,
-                    None => NONE,
-                }
-            })
-        })
-        .collect()
 }
 
 fn resolve_data(

@@ -15,9 +15,9 @@ use std::io::{self, Write};
 use std::path::Path;
 
 use super::header::Encoding;
-use super::types::{DataType, ElementKind, RawData, ScalarType, Values};
 use super::{ascii, binary};
 use crate::atomic::write_atomically;
+use crate::data::{DataType, ElementKind, RawData, ScalarType, Values};
 use crate::error::Error;
 use crate::mesh::FACE_NODES;
 use crate::volume::Volume;

@@ -170,7 +170,7 @@ impl Binder<'_> {
                 FieldNeed::Any => true,
                 FieldNeed::Scalar => f.is_scalar(),
                 FieldNeed::Components(k) => f.components() == k,
-                FieldNeed::ByteConstant => f.is_byte_constant(self.vol),
+                FieldNeed::ByteConstant => f.is_byte_constant(&self.vol.data.raw),
             };
             if !ok {
                 let name = f
@@ -307,8 +307,9 @@ impl Mapping {
         pos: [f64; 3],
         buf: &mut [f64],
     ) {
+        let on = vol.support();
         for (&f, s) in self.fields.iter().zip(&self.slots) {
-            vol.data.fields[f].eval(vol, cell, lambda, pos, &mut buf[s.offset..s.offset + s.len]);
+            vol.data.fields[f].eval(&on, cell, lambda, pos, &mut buf[s.offset..s.offset + s.len]);
         }
     }
 

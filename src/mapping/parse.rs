@@ -170,13 +170,13 @@ pub fn parse_map<T: Registry + ?Sized>(
             let mut numbers = Vec::new();
             for tok in content.split_whitespace() {
                 match parse_f64(tok) {
-                    Some(v) if v.abs() > crate::hypermesh::MAX_MAGNITUDE => {
+                    Some(v) if v.abs() > crate::data::MAX_MAGNITUDE => {
                         return Err(err(
                             n,
                             format!(
                                 "block @{}: {tok} is too large: numbers up to ±{:e} are accepted",
                                 block.marker,
-                                crate::hypermesh::MAX_MAGNITUDE
+                                crate::data::MAX_MAGNITUDE
                             ),
                         ));
                     }

@@ -5,6 +5,7 @@
 //! node or cell, `u32` indices, no per-cell allocation.
 
 mod adjacency;
+pub mod edges;
 pub mod generate;
 mod geometry;
 pub mod overlap;

@@ -122,7 +122,7 @@ pub const SAVE_VOLUME: CommandInfo = CommandInfo {
     name: "save_volume",
     usage: "file ?binary|ascii? ?small?",
     summary: "write the volume as HyperMesh: full layout (nodes, triangles, tetrahedra by triangles, data) or small (nodes, tetrahedra by nodes, data-carrying elements); a name ending in .vtu writes VTK XML (binary appended, zlib)",
-    details: "Default: ascii, full layout. Writing then reading gives back the same grid and fields. For .vtu, Linear fields become point arrays and Constant fields cell arrays; other fields are left out with a warning.",
+    details: "Default: ascii, full layout. Writing then reading gives back the same grid and fields. For .vtu, node data become point arrays and cell data cell arrays (named after their fields), and VoRANG's layout in the file's FieldData keeps everything else (edges, triangles, other data, Materials, denominators, every field in its place), so the .vtu reads back as the same volume.",
     run: |s: &mut Session, c: &Call| {
         c.expect(1..=3)?;
         let opts = options(c, 1, true)?;
