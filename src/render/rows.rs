@@ -159,7 +159,8 @@ impl CellRows {
             root[e] = r;
             margin[e] = m;
             // No pixel centre within the margin: every centre's side is certain.
-            sure[e] = r.is_finite() && r - (first - 0.5) > m && (first + 0.5) - r > m;
+            // (`&`, not `&&`: no branches, so the loop runs in vector registers.)
+            sure[e] = r.is_finite() & (r - (first - 0.5) > m) & ((first + 0.5) - r > m);
             split[e] = first.max(x0).min(x1);
         }
         let mut at = [0usize; 6];
