@@ -164,9 +164,15 @@ impl Method {
         let Some((name, args)) = words.split_first() else {
             return Err(format!("expected a method: {}", names()));
         };
+        // The thesis's own short spellings (appendix A) name the same methods.
+        let name = match *name {
+            "interpolCoeff" => "interpolateCoeff",
+            "interpolColor" => "interpolateColor",
+            other => other,
+        };
         let info = METHODS
             .iter()
-            .find(|m| m.name == *name)
+            .find(|m| m.name == name)
             .ok_or_else(|| format!("unknown method '{name}': expected one of {}", names()))?;
         let n = info.usage.split_whitespace().count();
         if args.len() != n {
@@ -255,5 +261,23 @@ mod tests {
                 .contains("unknown method 'splat'")
         );
         assert!(Method::parse(&["exact", "constEA", "-1", "1"]).is_err());
+    }
+
+    /// The thesis's short names parse to the same methods as the long ones.
+    #[test]
+    fn the_thesis_short_names_are_aliases() {
+        assert_eq!(
+            Method::parse(&["interpolCoeff", "linear", "1.5"]),
+            Method::parse(&["interpolateCoeff", "linear", "1.5"])
+        );
+        assert_eq!(
+            Method::parse(&["interpolColor", "2"]),
+            Method::parse(&["interpolateColor", "2"])
+        );
+        assert!(
+            Method::parse(&["interpolColor"])
+                .unwrap_err()
+                .contains("method interpolateColor brightness")
+        );
     }
 }

@@ -61,9 +61,12 @@ pub const LINEDRAW: CommandInfo = CommandInfo {
             (1, "off") => LineDraw::Off,
             (2, _) => {
                 let field = c.count(0, "field")?;
+                // Commas separate values too, as the thesis writes them: `{0, 7}`.
                 let values = c
                     .list(1)?
                     .iter()
+                    .flat_map(|v| v.split(','))
+                    .filter(|v| !v.trim().is_empty())
                     .map(|v| {
                         crate::numbers::parse_f64(v.trim()).ok_or_else(|| {
                             format!("linedraw: expected numbers in the value list, found \"{v}\"")
