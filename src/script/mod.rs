@@ -9,6 +9,7 @@
 
 mod commands;
 mod locate;
+pub mod reference;
 pub mod tcl;
 pub mod tk;
 
