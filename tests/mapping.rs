@@ -462,3 +462,53 @@ fn every_bad_map_file_fails_at_the_stated_line() {
     assert!(checked >= 20, "{checked}");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
+
+/// IDENTITY of a vector field with negative components (issue 15, item 5): the emission is
+/// clamped to 0 and each render warns once, with the count; a field without negative values
+/// gives no warning.
+#[test]
+fn identity_clamps_negative_emission_with_one_warning_per_render() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/two_tets_data.hmesh");
+    let run = |field: usize| {
+        let map = tmp.path().join(format!("c{field}.map"));
+        std::fs::write(
+            &map,
+            format!("# VoRANG Colormap 1.0\nDataField {field}\nIDENTITY\n"),
+        )
+        .unwrap();
+        let script = tmp.path().join(format!("s{field}.tcl"));
+        std::fs::write(
+            &script,
+            format!(
+                "imagesize 16 16\nvolume {{{}}}\ncolormap {{{}}}\nlinedraw off\nmethod exact linear 0 1\noutput {{{}}}\nrender_btf\nrender_btf\n",
+                data.display(),
+                map.display(),
+                tmp.path().join(format!("i{field}.pfm")).display()
+            ),
+        )
+        .unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_vorang"))
+            .arg(&script)
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    // Field 4 ("E", EdgeElem) has negative components; field 1 ("colour") lies in [0, 1].
+    let negative = run(4);
+    let warnings: Vec<&str> = negative
+        .lines()
+        .filter(|l| l.contains("IDENTITY clamped"))
+        .collect();
+    assert_eq!(warnings.len(), 2, "{negative}");
+    assert!(
+        warnings[0].contains("negative components to 0"),
+        "{negative}"
+    );
+    assert!(!run(1).contains("IDENTITY clamped"));
+}

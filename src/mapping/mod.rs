@@ -122,6 +122,11 @@ pub trait ColorShading: Send + Sync + fmt::Debug {
     fn scalar_form(&self) -> Option<ScalarColor<'_>> {
         None
     }
+    /// How many evaluations had to clamp a negative emission to 0 since the last call
+    /// (`IDENTITY` of a field with negative components), for one warning per render.
+    fn take_clamped(&self) -> u64 {
+        0
+    }
 }
 
 /// An alpha shading method: data → absorption χ.

@@ -121,6 +121,10 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
         None
     };
     let view = &s.view;
+    // Count only this render's clamped emission (IDENTITY).
+    for l in &s.colormap.lines {
+        l.method.take_clamped();
+    }
     let run = |tile: Option<TileSink>| {
         let cancel = AtomicBool::new(false);
         let watch = Watch {
@@ -162,6 +166,18 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
     };
     progress.clear();
     let (fb, stats) = result.map_err(|e| format!("{}: {e}", c.info.name))?;
+    let clamped: u64 = s
+        .colormap
+        .lines
+        .iter()
+        .map(|l| l.method.take_clamped())
+        .sum();
+    if clamped > 0 {
+        s.reporter.warn(&format!(
+            "{}: IDENTITY clamped {clamped} evaluations with negative components to 0 (emission cannot be negative)",
+            c.info.name
+        ));
+    }
     let seconds = started.elapsed().as_secs_f64();
     write_image(&fb, &path).map_err(|e| e.to_string())?;
     s.next_number += 1;
