@@ -1,8 +1,9 @@
 //! `IDENTITY` (no block): a float[3] field is the emission itself.
 //!
 //! Emission is light added along the ray, so it cannot be negative: a negative component is
-//! clamped to 0 where the colour is evaluated (at the rule's sample points), and counted, so
-//! that a render can warn once how many values it clamped ([`ColorShading::take_clamped`]).
+//! clamped to 0 where the colour is evaluated (at the rule's sample points), and counted (beyond
+//! rounding), so that a render can warn once how many values it clamped
+//! ([`ColorShading::take_clamped`]).
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -18,6 +19,9 @@ pub const INFO: MethodInfo<dyn ColorShading> = MethodInfo {
     build,
 };
 
+/// Negative values smaller than this fraction of the largest component (or of 1) are rounding.
+const ROUNDING: f64 = 1e-9;
+
 #[derive(Debug, Default)]
 pub struct Identity {
     /// Evaluations with a negative component since the last [`ColorShading::take_clamped`].
@@ -31,7 +35,10 @@ fn build(_: Option<&ParamBlock>) -> Result<Arc<dyn ColorShading>, BlockError> {
 impl ColorShading for Identity {
     fn color(&self, p: &Point, _: f64) -> [f64; 3] {
         let v = [p.value[0], p.value[1], p.value[2]];
-        if v.iter().any(|&c| c < 0.0) {
+        // Interpolating non-negative node values can round to −10⁻¹⁷: clamped, but not worth
+        // a warning. Only values negative beyond rounding are counted.
+        let scale = v.iter().fold(1.0f64, |m, c| m.max(c.abs()));
+        if v.iter().any(|&c| c < -ROUNDING * scale) {
             self.clamped.fetch_add(1, Ordering::Relaxed);
         }
         v.map(|c| c.max(0.0))
@@ -65,8 +72,11 @@ mod tests {
         assert_eq!(color([0.2, 0.5, 1.5]), [0.2, 0.5, 1.5]);
         assert_eq!(m.take_clamped(), 0);
         assert_eq!(color([-0.2, 0.5, -3.0]), [0.0, 0.5, 0.0]);
-        assert_eq!(color([0.1, -1e-9, 0.0]), [0.1, 0.0, 0.0]);
+        assert_eq!(color([0.1, -1e-6, 0.0]), [0.1, 0.0, 0.0]);
         assert_eq!(m.take_clamped(), 2);
+        // Rounding of non-negative data: clamped, not counted.
+        assert_eq!(color([0.3, -1e-17, 0.5]), [0.3, 0.0, 0.5]);
+        assert_eq!(m.take_clamped(), 0);
         assert_eq!(m.take_clamped(), 0);
     }
 }
