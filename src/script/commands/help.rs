@@ -37,6 +37,11 @@ fn describe(name: &str) -> Result<String, String> {
     if !c.details.is_empty() {
         s.push_str(&format!("\n  {}", c.details));
     }
+    if name == "colormap" {
+        for p in crate::mapping::PRESETS {
+            s.push_str(&format!("\n    {}: {}", p.name, p.summary));
+        }
+    }
     if name == "method" {
         s.push_str("\n  methods:");
         for m in crate::render::METHODS {
