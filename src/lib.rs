@@ -52,6 +52,7 @@ pub mod framebuffer;
 pub mod hypermesh;
 pub mod info;
 pub mod integrate;
+pub mod legend;
 pub mod mapping;
 pub mod mesh;
 pub mod numbers;

@@ -82,6 +82,8 @@ pub struct Session {
     /// The number of the next image (the first is 1).
     pub next_number: u32,
     pub lights: Vec<Light>,
+    /// `legend on ?position?`: where the colour legend goes (none by default).
+    pub legend: Option<crate::legend::Place>,
     pub reporter: Box<dyn Reporter>,
     /// Files written by renders, in order.
     pub written: Vec<PathBuf>,
@@ -98,6 +100,7 @@ impl Session {
             output: PathBuf::from("vorang.tiff"),
             next_number: 1,
             lights: Vec::new(),
+            legend: None,
             reporter,
             written: Vec::new(),
         }

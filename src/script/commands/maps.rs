@@ -1,6 +1,7 @@
-//! `colormap`, `alphamap`, `linedraw` (thesis A.1 „Angaben zu Beleuchtung und Darstellung“).
+//! `colormap`, `alphamap`, `linedraw`, `legend` (thesis A.1 „Angaben zu Beleuchtung und Darstellung“).
 
 use super::{Call, CommandInfo};
+use crate::legend::Place;
 use crate::mapping::{
     AlphaMap, AlphaShading, ColorMap, ColorShading, Mapping, preset_colormap, ramp_alphamap,
     read_map,
@@ -99,6 +100,31 @@ pub const LINEDRAW: CommandInfo = CommandInfo {
                 LineDraw::Cells { field, values }
             }
             _ => return Err(c.wrong_args()),
+        };
+        Ok(String::new())
+    },
+};
+
+pub const LEGEND: CommandInfo = CommandInfo {
+    name: "legend",
+    usage: "on|off ?right|left|top|bottom?",
+    summary: "draw the colormap as a bar with its range and a few labelled values into every image",
+    details: "Default: off; 'legend on' puts the bar on the right. The bar runs from the map's lowest table value to its highest (CONSTANT: the field's data range); colours above 1 are scaled down to the largest component. Maps with categories, IDENTITY or CONST_CELL have no single scale: the render warns and draws none.",
+    run: |s: &mut Session, c: &Call| {
+        c.expect(1..=2)?;
+        let place = match c.args().get(1) {
+            None => Place::Right,
+            Some(word) => Place::parse(word).ok_or_else(|| {
+                format!(
+                    "legend: expected a position {}, found '{word}'",
+                    Place::NAMES.join(", ")
+                )
+            })?,
+        };
+        s.legend = match c.args()[0].as_str() {
+            "on" => Some(place),
+            "off" => None,
+            other => return Err(format!("legend: expected on or off, found '{other}'")),
         };
         Ok(String::new())
     },

@@ -44,6 +44,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     maps::COLORMAP,
     maps::ALPHAMAP,
     maps::LINEDRAW,
+    maps::LEGEND,
     camera::PERSP_CAMERA,
     camera::ORTHO_CAMERA,
     camera::VIEW_ALL,

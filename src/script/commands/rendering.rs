@@ -6,6 +6,7 @@ use std::time::Instant;
 
 use super::{Call, CommandInfo};
 use crate::framebuffer::{format_for, numbered, write_image};
+use crate::legend::{self, ColorScale};
 use crate::mapping::Mapping;
 use crate::render::{Method, Order, Settings, render};
 use crate::script::Session;
@@ -110,8 +111,21 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
         Some(&|d, t| progress.update(d, t)),
     );
     progress.clear();
-    let (fb, stats) = result.map_err(|e| format!("{}: {e}", c.info.name))?;
+    let (mut fb, stats) = result.map_err(|e| format!("{}: {e}", c.info.name))?;
     let seconds = started.elapsed().as_secs_f64();
+    if let Some(place) = s.legend {
+        match ColorScale::of_map(&s.colormap, &vol) {
+            Ok(scale) => {
+                if !legend::draw(&mut fb, place, &scale) {
+                    s.reporter.warn(&format!(
+                        "{}: the image is too small for a legend (48 pixels at least)",
+                        c.info.name
+                    ));
+                }
+            }
+            Err(e) => s.reporter.warn(&format!("{}: no legend: {e}", c.info.name)),
+        }
+    }
     write_image(&fb, &path).map_err(|e| e.to_string())?;
     s.next_number += 1;
     if let Some((x, y)) = stats.first_non_finite {
