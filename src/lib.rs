@@ -55,6 +55,7 @@ pub mod integrate;
 pub mod legend;
 pub mod mapping;
 pub mod mesh;
+pub mod movie;
 pub mod numbers;
 pub mod reference;
 pub mod render;

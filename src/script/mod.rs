@@ -84,6 +84,8 @@ pub struct Session {
     pub lights: Vec<Light>,
     /// `legend on ?position?`: where the colour legend goes (none by default).
     pub legend: Option<crate::legend::Place>,
+    /// `movie FILE`: while open, renders add frames to it instead of writing images.
+    pub movie: Option<crate::movie::Movie>,
     pub reporter: Box<dyn Reporter>,
     /// Files written by renders, in order.
     pub written: Vec<PathBuf>,
@@ -101,8 +103,40 @@ impl Session {
             next_number: 1,
             lights: Vec::new(),
             legend: None,
+            movie: None,
             reporter,
             written: Vec::new(),
+        }
+    }
+}
+
+impl Session {
+    /// Writes the open movie, if any (`movie close`, a new `movie`, the session's end); the
+    /// message names the file and its frames.
+    pub fn close_movie(&mut self) -> Result<Option<(PathBuf, String)>, String> {
+        let Some(movie) = self.movie.take() else {
+            return Ok(None);
+        };
+        let frames = movie.frames();
+        let fps = movie.fps;
+        let path = movie.finish().map_err(|e| e.to_string())?;
+        let msg = format!(
+            "{}  {frames} frame{} at {fps} fps",
+            locate_display(&path),
+            if frames == 1 { "" } else { "s" }
+        );
+        self.written.push(path.clone());
+        Ok(Some((path, msg)))
+    }
+}
+
+impl Drop for Session {
+    /// A script that ends with a movie open still gets its movie.
+    fn drop(&mut self) {
+        match self.close_movie() {
+            Ok(Some((_, msg))) => self.reporter.info(&msg),
+            Ok(None) => {}
+            Err(e) => self.reporter.warn(&e),
         }
     }
 }

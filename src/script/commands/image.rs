@@ -1,4 +1,4 @@
-//! Image settings: `imagesize`, `output`, `set_nr`, `background` (thesis A.1 „Bildangaben“).
+//! Image settings: `imagesize`, `output`, `set_nr`, `background`, `movie` (thesis A.1 „Bildangaben“).
 
 use std::sync::Arc;
 
@@ -75,6 +75,37 @@ pub const BACKGROUND: CommandInfo = CommandInfo {
             let img = BackgroundImage::load(&c.path(0)).map_err(|e| e.to_string())?;
             s.settings.background = Background::Image(Arc::new(img));
         }
+        Ok(String::new())
+    },
+};
+
+pub const MOVIE: CommandInfo = CommandInfo {
+    name: "movie",
+    usage: "file ?fps? | close",
+    summary: "collect the following renders as the frames of an animation: 'movie spin.gif 15' … render_btf … 'movie close' writes spin.gif",
+    details: "While a movie is open, each render adds a frame (with the legend, if on) instead of writing a numbered image; the frames wait in a hidden folder .NAME.frames next to the movie. Formats by extension: gif (256 colours per frame), apng or png (animated PNG, full colour) written by VoRANG; mp4, webm, mkv, mov through the ffmpeg program, which must be on the PATH. Default 10 frames per second; the movie loops. A new 'movie' closes the open one; so does the end of the session.",
+    run: |s: &mut Session, c: &Call| {
+        c.expect(1..=2)?;
+        if c.args()[0] == "close" && c.args().len() == 1 {
+            return match s.close_movie()? {
+                Some((path, msg)) => {
+                    s.reporter.info(&msg);
+                    Ok(path.display().to_string())
+                }
+                None => Err("movie close: no movie is open".into()),
+            };
+        }
+        let fps = if c.args().len() == 2 {
+            c.number(1, "fps")?
+        } else {
+            10.0
+        };
+        let path = c.path(0);
+        crate::movie::MovieFormat::for_path(&path).map_err(|e| format!("movie: {e}"))?;
+        if let Some((_, msg)) = s.close_movie()? {
+            s.reporter.info(&msg);
+        }
+        s.movie = Some(crate::movie::Movie::open(&path, fps).map_err(|e| format!("movie: {e}"))?);
         Ok(String::new())
     },
 };

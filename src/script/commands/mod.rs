@@ -35,6 +35,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     image::OUTPUT,
     image::SET_NR,
     image::BACKGROUND,
+    image::MOVIE,
     data::VOLUME,
     data::DATA,
     data::SAVE_VOLUME,

@@ -88,7 +88,7 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
     for w in warnings {
         s.reporter.warn(&w.to_string());
     }
-    if s.next_number == u32::MAX {
+    if s.movie.is_none() && s.next_number == u32::MAX {
         return Err(format!(
             "{}: the image numbers are used up (the last was {}): use 'set_nr' to start again",
             c.info.name,
@@ -126,8 +126,26 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
             Err(e) => s.reporter.warn(&format!("{}: no legend: {e}", c.info.name)),
         }
     }
-    write_image(&fb, &path).map_err(|e| e.to_string())?;
-    s.next_number += 1;
+    // While a movie is open the frame goes to it; otherwise the next numbered image.
+    let (shown, written) = match &mut s.movie {
+        Some(movie) => {
+            movie
+                .add(&fb)
+                .map_err(|e| format!("{}: {e}", c.info.name))?;
+            let shown = format!(
+                "{} frame {}",
+                crate::script::locate_display(&movie.path),
+                movie.frames()
+            );
+            (shown, movie.path.clone())
+        }
+        None => {
+            write_image(&fb, &path).map_err(|e| e.to_string())?;
+            s.next_number += 1;
+            s.written.push(path.clone());
+            (crate::script::locate_display(&path), path)
+        }
+    };
     if let Some((x, y)) = stats.first_non_finite {
         s.reporter.warn(&format!(
             "{}: {} pixels are NaN or infinite (the first at x {x}, y {y}): an overflow in the data or maps; please report it",
@@ -152,7 +170,7 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
     }
     s.reporter.info(&format!(
         "{}  {}×{}  {} cells  {:.3} s  max {}",
-        crate::script::locate_display(&path),
+        shown,
         fb.width,
         fb.height,
         stats.cells,
@@ -180,8 +198,7 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
             rayon::current_num_threads()
         ));
     }
-    s.written.push(path.clone());
-    Ok(path.display().to_string())
+    Ok(written.display().to_string())
 }
 
 pub const RENDER_BTF: CommandInfo = CommandInfo {
