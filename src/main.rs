@@ -264,6 +264,14 @@ fn prompt(runner: &mut Runner) -> ExitCode {
     }
 }
 
+/// `vorang -e 'help method'` and `echo 'help method' | vorang` print the help: the result of
+/// such a script is printed when it is what `help` returned (a render's file name is not).
+fn print_help_result(runner: &Runner, result: &str) {
+    if !result.is_empty() && runner.session().last_help.as_deref() == Some(result) {
+        println!("{result}");
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     if let Some(command) = cli.command {
@@ -287,7 +295,10 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
         return match runner.run_string(&script, "<stdin>") {
-            Ok(_) => ExitCode::SUCCESS,
+            Ok(result) => {
+                print_help_result(&runner, &result);
+                ExitCode::SUCCESS
+            }
             Err(e) => {
                 report(&e);
                 ExitCode::FAILURE
@@ -295,9 +306,12 @@ fn main() -> ExitCode {
         };
     }
     for script in &cli.eval {
-        if let Err(e) = runner.run_string(script, "-e") {
-            report(&e);
-            return ExitCode::FAILURE;
+        match runner.run_string(script, "-e") {
+            Ok(result) => print_help_result(&runner, &result),
+            Err(e) => {
+                report(&e);
+                return ExitCode::FAILURE;
+            }
         }
     }
     for path in &cli.scripts {

@@ -9,6 +9,7 @@
 
 mod commands;
 mod locate;
+mod nearest;
 pub mod tcl;
 
 use std::cell::RefCell;
@@ -86,6 +87,9 @@ pub struct Session {
     pub legend: Option<crate::legend::Place>,
     /// `movie FILE`: while open, renders add frames to it instead of writing images.
     pub movie: Option<crate::movie::Movie>,
+    /// What `help` last returned: `vorang -e 'help …'` and piped scripts print their result
+    /// when it is this text (other results, such as a render's file name, stay quiet).
+    pub last_help: Option<String>,
     pub reporter: Box<dyn Reporter>,
     /// Files written by renders, in order.
     pub written: Vec<PathBuf>,
@@ -104,6 +108,7 @@ impl Session {
             lights: Vec::new(),
             legend: None,
             movie: None,
+            last_help: None,
             reporter,
             written: Vec::new(),
         }
@@ -197,6 +202,20 @@ proc ::source {args} {
     }
     uplevel 1 [list ::vorang::tcl_source {*}[lrange $args 0 end-1] $path]
 }
+# An unknown command names the nearest known one ("did you mean …?").
+rename ::unknown ::vorang::tcl_unknown
+proc ::unknown {args} {
+    set code [catch {uplevel 1 [list ::vorang::tcl_unknown {*}$args]} result opts]
+    if {$code == 1 && [string match "invalid command name *" $result]} {
+        set near [::vorang::nearest [lindex $args 0] [info commands]]
+        if {$near ne ""} {
+            append result "; did you mean \"$near\"?"
+        }
+        return -code error -errorcode [dict get $opts -errorcode] $result
+    }
+    dict incr opts -level
+    return -options $opts $result
+}
 "#;
 
 impl Runner {
@@ -204,6 +223,20 @@ impl Runner {
         let mut interp = Interp::new();
         let session = Rc::new(RefCell::new(Session::new(reporter)));
         let last_failure = Rc::new(RefCell::new(None));
+        interp.register(
+            "::vorang::nearest",
+            Box::new(|interp: &Interp, words: &[String]| {
+                let [_, name, list] = words else {
+                    return Err(
+                        "wrong # args: should be \"::vorang::nearest name commands\"".into(),
+                    );
+                };
+                let known = interp.split_list(list).map_err(|e| e.to_string())?;
+                Ok(nearest::nearest(name, known.iter().map(String::as_str))
+                    .unwrap_or("")
+                    .to_string())
+            }),
+        );
         // The prelude is a fixed, valid script.
         let _ = interp.eval(PRELUDE);
         for info in COMMANDS {

@@ -1,0 +1,70 @@
+//! The friendlier program (issue 16, item 7, in part): `vorang -e 'help …'` and a piped
+//! `help …` print the help; an unknown command names the nearest known one.
+
+use std::io::Write;
+use std::process::{Command, Stdio};
+
+use vorang::script::{Collect, Runner};
+
+fn vorang() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_vorang"))
+}
+
+#[test]
+fn help_prints_from_e_and_from_a_pipe() {
+    let out = vorang().args(["-e", "help method"]).output().unwrap();
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.starts_with("method name") && text.contains("interpolateColor"),
+        "{text}"
+    );
+
+    let mut child = vorang()
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(b"help method\n")
+        .unwrap();
+    let out = child.wait_with_output().unwrap();
+    assert!(out.status.success());
+    assert_eq!(String::from_utf8_lossy(&out.stdout), text);
+
+    // Other results stay quiet, as before.
+    let out = vorang()
+        .args(["-e", "set x [help]; set y 2"])
+        .output()
+        .unwrap();
+    assert!(out.status.success() && out.stdout.is_empty());
+}
+
+#[test]
+fn unknown_commands_suggest_the_nearest() {
+    let mut r = Runner::new(Box::new(Collect::default()));
+    for (typo, meant) in [
+        ("rendr_btf", "render_btf"),
+        ("colourmap x", "colormap"),
+        ("vol_rotat 0 1 0 5", "vol_rotate"),
+        ("forech x {1} {}", "foreach"),
+    ] {
+        let e = r.run_string(typo, "-e").unwrap_err();
+        assert!(
+            e.message.ends_with(&format!("did you mean \"{meant}\"?")),
+            "{typo}: {e}"
+        );
+        assert_eq!(e.line, 1);
+    }
+    let e = r.run_string("qqqqqqqq", "-e").unwrap_err();
+    assert_eq!(e.message, "invalid command name \"qqqqqqqq\"");
+    // Procedures defined later are known too, and Tcl's own unknown handling still works.
+    r.run_string("proc spin_volume {} { return ok }", "-e")
+        .unwrap();
+    let e = r.run_string("spin_volum", "-e").unwrap_err();
+    assert!(e.message.contains("\"spin_volume\""), "{e}");
+    assert_eq!(r.run_string("spin_volume", "-e").unwrap(), "ok");
+}
