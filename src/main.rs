@@ -220,21 +220,72 @@ fn report(e: &ScriptError) {
     }
 }
 
-/// The interactive prompt: commands and Tcl, with line editing and history.
+/// Tab completion at the prompt: command names where a command starts, file names elsewhere.
+struct PromptHelper {
+    /// Tcl's and VoRANG's commands, refreshed before each line (procs appear as defined).
+    commands: Vec<String>,
+    files: rustyline::completion::FilenameCompleter,
+}
+
+impl rustyline::completion::Completer for PromptHelper {
+    type Candidate = rustyline::completion::Pair;
+
+    fn complete(
+        &self,
+        line: &str,
+        pos: usize,
+        ctx: &rustyline::Context<'_>,
+    ) -> rustyline::Result<(usize, Vec<Self::Candidate>)> {
+        let names = self.commands.iter().map(String::as_str);
+        match vorang::script::complete::commands_at(line, pos, names) {
+            Some((start, found)) => Ok((
+                start,
+                found
+                    .into_iter()
+                    .map(|n| rustyline::completion::Pair {
+                        display: n.clone(),
+                        replacement: n,
+                    })
+                    .collect(),
+            )),
+            None => self.files.complete(line, pos, ctx),
+        }
+    }
+}
+
+impl rustyline::hint::Hinter for PromptHelper {
+    type Hint = String;
+}
+impl rustyline::highlight::Highlighter for PromptHelper {}
+impl rustyline::validate::Validator for PromptHelper {}
+impl rustyline::Helper for PromptHelper {}
+
+/// The interactive prompt: commands and Tcl, with line editing, history and tab completion.
 fn prompt(runner: &mut Runner) -> ExitCode {
     println!(
         "VoRANG {} — Tcl with the VoRANG commands; 'help' lists them, 'exit' quits.",
         env!("CARGO_PKG_VERSION")
     );
-    let mut editor = match rustyline::DefaultEditor::new() {
-        Ok(e) => e,
-        Err(e) => {
-            eprintln!("vorang: cannot start the prompt: {e}");
-            return ExitCode::FAILURE;
-        }
-    };
+    let mut editor =
+        match rustyline::Editor::<PromptHelper, rustyline::history::DefaultHistory>::new() {
+            Ok(e) => e,
+            Err(e) => {
+                eprintln!("vorang: cannot start the prompt: {e}");
+                return ExitCode::FAILURE;
+            }
+        };
+    editor.set_helper(Some(PromptHelper {
+        commands: Vec::new(),
+        files: rustyline::completion::FilenameCompleter::new(),
+    }));
     let mut buffer = String::new();
     loop {
+        if let (Some(helper), Ok(list)) = (
+            editor.helper_mut(),
+            runner.run_string("info commands", "<prompt>"),
+        ) {
+            helper.commands = list.split_whitespace().map(str::to_string).collect();
+        }
         match editor.readline(if buffer.is_empty() {
             "vorang> "
         } else {

@@ -8,6 +8,7 @@
 //! back to a file line (procedure bodies are located when they are defined).
 
 mod commands;
+pub mod complete;
 mod locate;
 mod nearest;
 pub mod tcl;
