@@ -260,6 +260,26 @@ impl rustyline::highlight::Highlighter for PromptHelper {}
 impl rustyline::validate::Validator for PromptHelper {}
 impl rustyline::Helper for PromptHelper {}
 
+/// Ctrl-C during a render cancels it; otherwise it ends the program (exit status 130, as the
+/// default action would report it).
+#[cfg(unix)]
+extern "C" fn interrupted(_: libc::c_int) {
+    if !vorang::script::interrupt::on_interrupt() {
+        // SAFETY: _exit is async-signal-safe.
+        unsafe { libc::_exit(130) };
+    }
+}
+
+#[cfg(unix)]
+fn catch_interrupts() {
+    let handler = interrupted as extern "C" fn(libc::c_int);
+    // SAFETY: the handler only touches atomics and calls _exit.
+    unsafe { libc::signal(libc::SIGINT, handler as libc::sighandler_t) };
+}
+
+#[cfg(not(unix))]
+fn catch_interrupts() {}
+
 /// The interactive prompt: commands and Tcl, with line editing, history and tab completion.
 fn prompt(runner: &mut Runner) -> ExitCode {
     println!(
@@ -274,6 +294,7 @@ fn prompt(runner: &mut Runner) -> ExitCode {
                 return ExitCode::FAILURE;
             }
         };
+    catch_interrupts();
     editor.set_helper(Some(PromptHelper {
         commands: Vec::new(),
         files: rustyline::completion::FilenameCompleter::new(),

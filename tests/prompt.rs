@@ -30,6 +30,18 @@ fn openpty() -> (std::fs::File, OwnedFd) {
     }
 }
 
+/// The program under test, ended if the test fails half-way.
+struct Child(std::process::Child);
+
+impl Drop for Child {
+    fn drop(&mut self) {
+        if self.0.try_wait().ok().flatten().is_none() {
+            let _ = self.0.kill();
+            let _ = self.0.wait();
+        }
+    }
+}
+
 /// Reads what the terminal shows until `want` appears (or 10 s pass).
 fn read_until(master: &mut std::fs::File, seen: &mut String, want: &str) -> bool {
     let start = Instant::now();
@@ -71,13 +83,14 @@ fn then_prompt(master: &mut std::fs::File, seen: &mut String, want: &str) {
 #[test]
 fn the_prompt_completes_and_suggests() {
     let (mut master, slave) = openpty();
-    let mut child = Command::new(env!("CARGO_BIN_EXE_vorang"))
+    let child = Command::new(env!("CARGO_BIN_EXE_vorang"))
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .stdin(Stdio::from(slave.try_clone().unwrap()))
         .stdout(Stdio::from(slave.try_clone().unwrap()))
         .stderr(Stdio::from(slave))
         .spawn()
         .unwrap();
+    let mut child = Child(child);
     let mut seen = String::new();
     assert!(read_until(&mut master, &mut seen, "vorang> "), "{seen}");
     // A command name, then a file name.
@@ -98,12 +111,60 @@ fn the_prompt_completes_and_suggests() {
     master.write_all(b"exit\r").unwrap();
     let start = Instant::now();
     loop {
-        if let Some(status) = child.try_wait().unwrap() {
+        if let Some(status) = child.0.try_wait().unwrap() {
             assert!(status.success());
             break;
         }
         if start.elapsed() > Duration::from_secs(10) {
-            let _ = child.kill();
+            let _ = child.0.kill();
+            panic!("the prompt did not exit: {seen}");
+        }
+        std::thread::sleep(Duration::from_millis(50));
+    }
+}
+
+#[test]
+fn ctrl_c_cancels_a_render_and_keeps_the_session() {
+    use std::os::unix::process::CommandExt;
+    let (mut master, slave) = openpty();
+    let mut cmd = Command::new(env!("CARGO_BIN_EXE_vorang"));
+    cmd.current_dir(env!("CARGO_MANIFEST_DIR"))
+        .stdin(Stdio::from(slave.try_clone().unwrap()))
+        .stdout(Stdio::from(slave.try_clone().unwrap()))
+        .stderr(Stdio::from(slave));
+    // The terminal becomes the child's controlling terminal, so that Ctrl-C typed on it sends
+    // SIGINT to the child.
+    // SAFETY: only async-signal-safe calls between fork and exec.
+    unsafe {
+        cmd.pre_exec(|| {
+            libc::setsid();
+            libc::ioctl(0, libc::TIOCSCTTY as _, 0);
+            Ok(())
+        });
+    }
+    let mut child = Child(cmd.spawn().unwrap());
+    let mut seen = String::new();
+    assert!(read_until(&mut master, &mut seen, "vorang> "), "{seen}");
+    let dir = tempfile::tempdir().unwrap();
+    let line = format!(
+        "output {{{}}}; volume examples/propEA/propEA.hmesh; imagesize 3000 3000; method exact linear 0.02 1; set kept 42; render_btf\r",
+        dir.path().join("slow.png").display()
+    );
+    master.write_all(line.as_bytes()).unwrap();
+    // The progress bar shows once the render has run for a second.
+    assert!(read_until(&mut master, &mut seen, "rendering ["), "{seen}");
+    seen.clear();
+    master.write_all(b"\x03").unwrap();
+    then_prompt(&mut master, &mut seen, "the render was cancelled");
+    // The session goes on, with its state.
+    master.write_all(b"puts \"kept $kept\"\r").unwrap();
+    then_prompt(&mut master, &mut seen, "kept 42");
+    assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none());
+    master.write_all(b"exit\r").unwrap();
+    let start = Instant::now();
+    while child.0.try_wait().unwrap().is_none() {
+        if start.elapsed() > Duration::from_secs(10) {
+            let _ = child.0.kill();
             panic!("the prompt did not exit: {seen}");
         }
         std::thread::sleep(Duration::from_millis(50));

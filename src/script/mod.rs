@@ -9,6 +9,7 @@
 
 mod commands;
 pub mod complete;
+pub mod interrupt;
 mod locate;
 mod nearest;
 pub mod tcl;

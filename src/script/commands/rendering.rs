@@ -8,7 +8,7 @@ use super::{Call, CommandInfo};
 use crate::framebuffer::{format_for, numbered, write_image};
 use crate::legend::{self, ColorScale};
 use crate::mapping::Mapping;
-use crate::render::{Method, Order, Settings, render};
+use crate::render::{Method, Order, Settings, render_cancellable};
 use crate::script::Session;
 
 pub const METHOD: CommandInfo = CommandInfo {
@@ -103,13 +103,16 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
     };
     let progress = Progress::new();
     let started = Instant::now();
-    let result = render(
+    let rendering = crate::script::interrupt::Rendering::start();
+    let result = render_cancellable(
         &vol,
         &mapping,
         &s.view,
         &settings,
         Some(&|d, t| progress.update(d, t)),
+        &crate::script::interrupt::CANCEL,
     );
+    drop(rendering);
     progress.clear();
     let (mut fb, stats) = result.map_err(|e| format!("{}: {e}", c.info.name))?;
     let seconds = started.elapsed().as_secs_f64();
