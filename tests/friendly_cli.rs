@@ -68,3 +68,36 @@ fn unknown_commands_suggest_the_nearest() {
     assert!(e.message.contains("\"spin_volume\""), "{e}");
     assert_eq!(r.run_string("spin_volume", "-e").unwrap(), "ok");
 }
+
+#[test]
+fn a_new_output_name_starts_at_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut r = Runner::new(Box::new(Collect::default()));
+    let d = dir.path().display();
+    let script = format!(
+        "volume {{{mesh}}}; imagesize 8 8
+         output {{{d}/a.png}}; render_btf; render_btf
+         output {{{d}/b.png}}; render_btf
+         output {{{d}/b.png}}; render_btf
+         output {{{d}/b.tiff}}; render_btf
+         output {{{d}/c.png}}; set_nr 7; render_btf",
+        mesh = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/propEA/propEA.hmesh"),
+    );
+    r.run_string(&script, "-e").unwrap();
+    let mut names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(
+        names,
+        [
+            "a.0001.png",
+            "a.0002.png",
+            "b.0001.png",
+            "b.0002.png",
+            "b.0003.tiff",
+            "c.0007.png"
+        ]
+    );
+}

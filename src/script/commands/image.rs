@@ -25,11 +25,16 @@ pub const OUTPUT: CommandInfo = CommandInfo {
     name: "output",
     usage: "base.format",
     summary: "base name and format of the images: 'output img.png' writes img.0001.png, img.0002.png …",
-    details: "The format follows the extension: tiff/tif (default: vorang.tiff), png, bmp, tga, ppm/pnm, pgm, pam, jpg/jpeg, gif, ico, qoi, webp, hdr, exr, pfm (float RGB), rgb/sgi/rgba (SGI). 8-bit formats clip to [0, 1]; exr, pfm and hdr keep the floats. Missing folders are created.",
+    details: "The format follows the extension: tiff/tif (default: vorang.tiff), png, bmp, tga, ppm/pnm, pgm, pam, jpg/jpeg, gif, ico, qoi, webp, hdr, exr, pfm (float RGB), rgb/sgi/rgba (SGI). 8-bit formats clip to [0, 1]; exr, pfm and hdr keep the floats. Missing folders are created. A different base name restarts the numbers at 1 (use set_nr after output to start elsewhere); the same base again, also in another format, keeps counting.",
     run: |s: &mut Session, c: &Call| {
         c.expect(1..=1)?;
         let path = c.path(0);
         format_for(&path).map_err(|e| e.to_string())?;
+        // A new base name starts a new series (issue 16): b.0001 after a.0001, a.0002; another
+        // format of the same base keeps counting (a.0003.pfm after a.0002.png).
+        if path.with_extension("") != s.output.with_extension("") {
+            s.next_number = 1;
+        }
         s.output = path;
         Ok(String::new())
     },
