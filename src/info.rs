@@ -154,8 +154,36 @@ fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {
                 .map(|(a, b)| format!("[{}, {}]", num(*a), num(*b)))
                 .collect();
             let _ = writeln!(s, "     range {}", parts.join(" "));
+            if let (Some(v), [(lo, hi)]) = (vol, range.as_slice()) {
+                if let Some(line) = first_picture(v, i, *lo, *hi) {
+                    let _ = writeln!(s, "     try   {line}");
+                }
+            }
         }
     }
+}
+
+/// A ready-to-paste first picture of scalar field `i` over its range `[lo, hi]` (issue 16):
+/// the viridis preset over the range and an absorption ramp up to χ = 4 / the bounding box's
+/// diagonal (the densest part then lets through about e^-4 of the light across the volume),
+/// with the brightness factor χ_max, so that opaque parts show the preset's colours. `None`
+/// for a constant field.
+pub fn first_picture(vol: &Volume, i: usize, lo: f64, hi: f64) -> Option<String> {
+    // Short numbers where they stay distinct, exact ones otherwise.
+    let (a, b) = match (num(lo), num(hi)) {
+        (a, b) if a.parse::<f64>().ok()? < b.parse::<f64>().ok()? => (a, b),
+        _ if lo < hi => (format!("{lo}"), format!("{hi}")),
+        _ => return None,
+    };
+    let size = vol.mesh.bbox().size();
+    let diagonal = size.iter().map(|v| v * v).sum::<f64>().sqrt();
+    if !(diagonal > 0.0 && diagonal.is_finite()) {
+        return None;
+    }
+    let chi = num(4.0 / diagonal);
+    Some(format!(
+        "colormap preset viridis {a} {b} {i}; alphamap ramp {a} {b} {chi} {i}; method interpolateColor {chi}"
+    ))
 }
 
 /// `vorang info --check`: cells that interpenetrate without sharing a face (at most 200 exact

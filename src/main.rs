@@ -252,16 +252,77 @@ fn report(e: &ScriptError) {
     }
 }
 
+/// Tab completion at the prompt: command names where a command starts, file names elsewhere.
+struct PromptHelper {
+    /// Tcl's and VoRANG's commands, refreshed before each line (procs appear as defined).
+    commands: Vec<String>,
+    files: rustyline::completion::FilenameCompleter,
+}
+
+impl rustyline::completion::Completer for PromptHelper {
+    type Candidate = rustyline::completion::Pair;
+
+    fn complete(
+        &self,
+        line: &str,
+        pos: usize,
+        ctx: &rustyline::Context<'_>,
+    ) -> rustyline::Result<(usize, Vec<Self::Candidate>)> {
+        let names = self.commands.iter().map(String::as_str);
+        match vorang::script::complete::commands_at(line, pos, names) {
+            Some((start, found)) => Ok((
+                start,
+                found
+                    .into_iter()
+                    .map(|n| rustyline::completion::Pair {
+                        display: n.clone(),
+                        replacement: n,
+                    })
+                    .collect(),
+            )),
+            None => self.files.complete(line, pos, ctx),
+        }
+    }
+}
+
+impl rustyline::hint::Hinter for PromptHelper {
+    type Hint = String;
+}
+impl rustyline::highlight::Highlighter for PromptHelper {}
+impl rustyline::validate::Validator for PromptHelper {}
+impl rustyline::Helper for PromptHelper {}
+
+/// Ctrl-C during a render cancels it; otherwise it ends the program (exit status 130, as the
+/// default action would report it).
+#[cfg(unix)]
+extern "C" fn interrupted(_: libc::c_int) {
+    if !vorang::script::interrupt::on_interrupt() {
+        // SAFETY: _exit is async-signal-safe.
+        unsafe { libc::_exit(130) };
+    }
+}
+
+#[cfg(unix)]
+fn catch_interrupts() {
+    let handler = interrupted as extern "C" fn(libc::c_int);
+    // SAFETY: the handler only touches atomics and calls _exit.
+    unsafe { libc::signal(libc::SIGINT, handler as libc::sighandler_t) };
+}
+
+#[cfg(not(unix))]
+fn catch_interrupts() {}
+
 /// What the prompt asks of its line-editing thread.
 enum Ask {
-    Line(&'static str),
+    /// Read a line with this prompt, completing these command names.
+    Line(&'static str, Vec<String>),
     History(String),
 }
 
 /// How often the prompt lets Tcl handle events while it waits for a line.
 const PROMPT_EVENTS: std::time::Duration = std::time::Duration::from_millis(30);
 
-/// The interactive prompt: commands and Tcl, with line editing and history.
+/// The interactive prompt: commands and Tcl, with line editing, history and tab completion.
 ///
 /// The line editor runs on a thread of its own, so that while it waits for the user this
 /// (the Tcl) thread keeps handling Tcl's and Tk's events: an `online` window or a viewer left
@@ -274,16 +335,24 @@ fn prompt(runner: &mut Runner) -> ExitCode {
     let (ask, asked) = std::sync::mpsc::channel::<Ask>();
     let (answer, answers) = std::sync::mpsc::channel();
     std::thread::spawn(move || {
-        let mut editor = match rustyline::DefaultEditor::new() {
-            Ok(e) => e,
-            Err(e) => {
-                let _ = answer.send(Err(e));
-                return;
-            }
-        };
+        let mut editor =
+            match rustyline::Editor::<PromptHelper, rustyline::history::DefaultHistory>::new() {
+                Ok(e) => e,
+                Err(e) => {
+                    let _ = answer.send(Err(e));
+                    return;
+                }
+            };
+        editor.set_helper(Some(PromptHelper {
+            commands: Vec::new(),
+            files: rustyline::completion::FilenameCompleter::new(),
+        }));
         for a in asked {
             match a {
-                Ask::Line(prompt) => {
+                Ask::Line(prompt, commands) => {
+                    if let Some(helper) = editor.helper_mut() {
+                        helper.commands = commands;
+                    }
                     if answer.send(editor.readline(prompt)).is_err() {
                         return;
                     }
@@ -294,13 +363,22 @@ fn prompt(runner: &mut Runner) -> ExitCode {
             }
         }
     });
+    catch_interrupts();
     let mut buffer = String::new();
     loop {
-        let _ = ask.send(Ask::Line(if buffer.is_empty() {
-            "vorang> "
-        } else {
-            "   ...> "
-        }));
+        // Tcl's and VoRANG's commands, refreshed before each line (procs appear as defined).
+        let commands = runner
+            .run_string("info commands", "<prompt>")
+            .map(|list| list.split_whitespace().map(str::to_string).collect())
+            .unwrap_or_default();
+        let _ = ask.send(Ask::Line(
+            if buffer.is_empty() {
+                "vorang> "
+            } else {
+                "   ...> "
+            },
+            commands,
+        ));
         let line = loop {
             match answers.recv_timeout(PROMPT_EVENTS) {
                 Ok(line) => break line,
@@ -382,6 +460,14 @@ fn view_script(
     script
 }
 
+/// `vorang -e 'help method'` and `echo 'help method' | vorang` print the help: the result of
+/// such a script is printed when it is what `help` returned (a render's file name is not).
+fn print_help_result(runner: &Runner, result: &str) {
+    if !result.is_empty() && runner.session().last_help.as_deref() == Some(result) {
+        println!("{result}");
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     if let Some(Command::View {
@@ -433,7 +519,10 @@ fn main() -> ExitCode {
             return ExitCode::FAILURE;
         }
         return match runner.run_string(&script, "<stdin>") {
-            Ok(_) => ExitCode::SUCCESS,
+            Ok(result) => {
+                print_help_result(&runner, &result);
+                ExitCode::SUCCESS
+            }
             Err(e) => {
                 report(&e);
                 ExitCode::FAILURE
@@ -441,9 +530,12 @@ fn main() -> ExitCode {
         };
     }
     for script in &cli.eval {
-        if let Err(e) = runner.run_string(script, "-e") {
-            report(&e);
-            return ExitCode::FAILURE;
+        match runner.run_string(script, "-e") {
+            Ok(result) => print_help_result(&runner, &result),
+            Err(e) => {
+                report(&e);
+                return ExitCode::FAILURE;
+            }
         }
     }
     for path in &cli.scripts {

@@ -16,6 +16,7 @@ mod bind;
 mod block;
 mod color;
 mod parse;
+mod preset;
 mod table;
 mod transfer;
 
@@ -25,6 +26,9 @@ use std::sync::Arc;
 pub use bind::{Lines, Mapping};
 pub use block::ParamBlock;
 pub use parse::{parse_map, read_map};
+pub use preset::{
+    PRESETS, Preset, preset, preset_colormap, preset_names, preset_text, ramp_alphamap, ramp_text,
+};
 pub use table::{ByteTable, Table};
 pub use transfer::{ScalarAlpha, ScalarColor, Transfer1D};
 

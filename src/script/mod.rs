@@ -8,7 +8,10 @@
 //! back to a file line (procedure bodies are located when they are defined).
 
 mod commands;
+pub mod complete;
+pub mod interrupt;
 mod locate;
+mod nearest;
 pub mod reference;
 pub mod tcl;
 pub mod tk;
@@ -84,6 +87,13 @@ pub struct Session {
     /// The number of the next image (the first is 1).
     pub next_number: u32,
     pub lights: Vec<Light>,
+    /// `legend on ?position?`: where the colour legend goes (none by default).
+    pub legend: Option<crate::legend::Place>,
+    /// `movie FILE`: while open, renders add frames to it instead of writing images.
+    pub movie: Option<crate::movie::Movie>,
+    /// What `help` last returned: `vorang -e 'help …'` and piped scripts print their result
+    /// when it is this text (other results, such as a render's file name, stay quiet).
+    pub last_help: Option<String>,
     pub reporter: Box<dyn Reporter>,
     /// Files written by renders, in order.
     pub written: Vec<PathBuf>,
@@ -102,9 +112,43 @@ impl Session {
             output: PathBuf::from("vorang.tiff"),
             next_number: 1,
             lights: Vec::new(),
+            legend: None,
+            movie: None,
+            last_help: None,
             reporter,
             written: Vec::new(),
             display: crate::display::Display::default(),
+        }
+    }
+}
+
+impl Session {
+    /// Writes the open movie, if any (`movie close`, a new `movie`, the session's end); the
+    /// message names the file and its frames.
+    pub fn close_movie(&mut self) -> Result<Option<(PathBuf, String)>, String> {
+        let Some(movie) = self.movie.take() else {
+            return Ok(None);
+        };
+        let frames = movie.frames();
+        let fps = movie.fps;
+        let path = movie.finish().map_err(|e| e.to_string())?;
+        let msg = format!(
+            "{}  {frames} frame{} at {fps} fps",
+            locate_display(&path),
+            if frames == 1 { "" } else { "s" }
+        );
+        self.written.push(path.clone());
+        Ok(Some((path, msg)))
+    }
+}
+
+impl Drop for Session {
+    /// A script that ends with a movie open still gets its movie.
+    fn drop(&mut self) {
+        match self.close_movie() {
+            Ok(Some((_, msg))) => self.reporter.info(&msg),
+            Ok(None) => {}
+            Err(e) => self.reporter.warn(&e),
         }
     }
 }
@@ -165,6 +209,20 @@ proc ::source {args} {
     }
     uplevel 1 [list ::vorang::tcl_source {*}[lrange $args 0 end-1] $path]
 }
+# An unknown command names the nearest known one ("did you mean …?").
+rename ::unknown ::vorang::tcl_unknown
+proc ::unknown {args} {
+    set code [catch {uplevel 1 [list ::vorang::tcl_unknown {*}$args]} result opts]
+    if {$code == 1 && [string match "invalid command name *" $result]} {
+        set near [::vorang::nearest [lindex $args 0] [info commands]]
+        if {$near ne ""} {
+            append result "; did you mean \"$near\"?"
+        }
+        return -code error -errorcode [dict get $opts -errorcode] $result
+    }
+    dict incr opts -level
+    return -options $opts $result
+}
 "#;
 
 impl Runner {
@@ -172,6 +230,20 @@ impl Runner {
         let mut interp = Interp::new();
         let session = Rc::new(RefCell::new(Session::new(reporter)));
         let last_failure = Rc::new(RefCell::new(None));
+        interp.register(
+            "::vorang::nearest",
+            Box::new(|interp: &Interp, words: &[String]| {
+                let [_, name, list] = words else {
+                    return Err(
+                        "wrong # args: should be \"::vorang::nearest name commands\"".into(),
+                    );
+                };
+                let known = interp.split_list(list).map_err(|e| e.to_string())?;
+                Ok(nearest::nearest(name, known.iter().map(String::as_str))
+                    .unwrap_or("")
+                    .to_string())
+            }),
+        );
         // The prelude is a fixed, valid script.
         let _ = interp.eval(PRELUDE);
         for info in COMMANDS {

@@ -8,12 +8,14 @@ pub const HELP: CommandInfo = CommandInfo {
     usage: "?command?",
     summary: "list the VoRANG commands, or describe one",
     details: "All of Tcl 8.6 is available too (set, for, foreach, proc, expr, source …).",
-    run: |_: &mut Session, c: &Call| {
+    run: |s: &mut Session, c: &Call| {
         c.expect(0..=1)?;
-        match c.args().first() {
-            None => Ok(overview()),
-            Some(name) => describe(name),
-        }
+        let text = match c.args().first() {
+            None => overview(),
+            Some(name) => describe(name)?,
+        };
+        s.last_help = Some(text.clone());
+        Ok(text)
     },
 };
 
@@ -36,6 +38,11 @@ fn describe(name: &str) -> Result<String, String> {
     let mut s = format!("{} {}\n  {}", c.name, c.usage, c.summary);
     if !c.details.is_empty() {
         s.push_str(&format!("\n  {}", c.details));
+    }
+    if name == "colormap" {
+        for p in crate::mapping::PRESETS {
+            s.push_str(&format!("\n    {}: {}", p.name, p.summary));
+        }
     }
     if name == "method" {
         s.push_str("\n  methods:");

@@ -1,4 +1,4 @@
-//! Image settings: `imagesize`, `output`, `set_nr`, `background` (thesis A.1 „Bildangaben“).
+//! Image settings: `imagesize`, `output`, `set_nr`, `background`, `movie` (thesis A.1 „Bildangaben“).
 
 use std::sync::Arc;
 
@@ -25,11 +25,16 @@ pub const OUTPUT: CommandInfo = CommandInfo {
     name: "output",
     usage: "base.format",
     summary: "base name and format of the images: 'output img.png' writes img.0001.png, img.0002.png …",
-    details: "The format follows the extension: tiff/tif (default: vorang.tiff), png, bmp, tga, ppm/pnm, pgm, pam, jpg/jpeg, gif, ico, qoi, webp, hdr, exr, pfm (float RGB), rgb/sgi/rgba (SGI). 8-bit formats clip to [0, 1]; exr, pfm and hdr keep the floats. Missing folders are created.",
+    details: "The format follows the extension: tiff/tif (default: vorang.tiff), png, bmp, tga, ppm/pnm, pgm, pam, jpg/jpeg, gif, ico, qoi, webp, hdr, exr, pfm (float RGB), rgb/sgi/rgba (SGI). 8-bit formats clip to [0, 1]; exr, pfm and hdr keep the floats. Missing folders are created. A different base name restarts the numbers at 1 (use set_nr after output to start elsewhere); the same base again, also in another format, keeps counting.",
     run: |s: &mut Session, c: &Call| {
         c.expect(1..=1)?;
         let path = c.path(0);
         format_for(&path).map_err(|e| e.to_string())?;
+        // A new base name starts a new series (issue 16): b.0001 after a.0001, a.0002; another
+        // format of the same base keeps counting (a.0003.pfm after a.0002.png).
+        if path.with_extension("") != s.output.with_extension("") {
+            s.next_number = 1;
+        }
         s.output = path;
         Ok(String::new())
     },
@@ -75,6 +80,37 @@ pub const BACKGROUND: CommandInfo = CommandInfo {
             let img = BackgroundImage::load(&c.path(0)).map_err(|e| e.to_string())?;
             s.settings.background = Background::Image(Arc::new(img));
         }
+        Ok(String::new())
+    },
+};
+
+pub const MOVIE: CommandInfo = CommandInfo {
+    name: "movie",
+    usage: "file ?fps? | close",
+    summary: "collect the following renders as the frames of an animation: 'movie spin.gif 15' … render_btf … 'movie close' writes spin.gif",
+    details: "While a movie is open, each render adds a frame (with the legend, if on) instead of writing a numbered image; the frames wait in a hidden folder .NAME.frames next to the movie. Formats by extension: gif (256 colours per frame), apng or png (animated PNG, full colour) written by VoRANG; mp4, webm, mkv, mov through the ffmpeg program, which must be on the PATH. Default 10 frames per second; the movie loops. A new 'movie' closes the open one; so does the end of the session.",
+    run: |s: &mut Session, c: &Call| {
+        c.expect(1..=2)?;
+        if c.args()[0] == "close" && c.args().len() == 1 {
+            return match s.close_movie()? {
+                Some((path, msg)) => {
+                    s.reporter.info(&msg);
+                    Ok(path.display().to_string())
+                }
+                None => Err("movie close: no movie is open".into()),
+            };
+        }
+        let fps = if c.args().len() == 2 {
+            c.number(1, "fps")?
+        } else {
+            10.0
+        };
+        let path = c.path(0);
+        crate::movie::MovieFormat::for_path(&path).map_err(|e| format!("movie: {e}"))?;
+        if let Some((_, msg)) = s.close_movie()? {
+            s.reporter.info(&msg);
+        }
+        s.movie = Some(crate::movie::Movie::open(&path, fps).map_err(|e| format!("movie: {e}"))?);
         Ok(String::new())
     },
 };

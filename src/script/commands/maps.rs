@@ -1,7 +1,11 @@
-//! `colormap`, `alphamap`, `linedraw` (thesis A.1 „Angaben zu Beleuchtung und Darstellung“).
+//! `colormap`, `alphamap`, `linedraw`, `legend` (thesis A.1 „Angaben zu Beleuchtung und Darstellung“).
 
 use super::{Call, CommandInfo};
-use crate::mapping::{AlphaMap, AlphaShading, ColorMap, ColorShading, Mapping, read_map};
+use crate::legend::Place;
+use crate::mapping::{
+    AlphaMap, AlphaShading, ColorMap, ColorShading, Mapping, preset_colormap, ramp_alphamap,
+    read_map,
+};
 use crate::render::LineDraw;
 use crate::script::Session;
 
@@ -15,13 +19,21 @@ fn check(s: &Session, color: &ColorMap, alpha: &AlphaMap) -> Result<(), String> 
 
 pub const COLORMAP: CommandInfo = CommandInfo {
     name: "colormap",
-    usage: "file",
-    summary: "the colour mapping: data → emission η (a '# VoRANG Colormap 1.0' file)",
-    details: "Default without a file: constant red emission (1 0 0). Methods: CONSTANT, IDENTITY, SIMPLE_EMITTER, ABSORPTION_WEIGHTED, CONST_CELL.",
+    usage: "file | preset name lo hi ?field?",
+    summary: "the colour mapping: data → emission η (a '# VoRANG Colormap 1.0' file, or a built-in colour table over [lo, hi])",
+    details: "Default without a file: constant red emission (1 0 0). Methods: CONSTANT, IDENTITY, SIMPLE_EMITTER, ABSORPTION_WEIGHTED, CONST_CELL. 'colormap preset viridis 0 1' is a SIMPLE_EMITTER table from lo to hi (clamped outside) on field 0 or the given field (number or name); 'vorang info FILE' prints the data ranges and a line to paste. Presets:",
     run: |s: &mut Session, c: &Call| {
-        c.expect(1..=1)?;
         let (map, warnings) =
-            read_map::<dyn ColorShading>(&c.path(0)).map_err(|e| e.to_string())?;
+            if c.args().first().is_some_and(|a| a == "preset") && c.args().len() > 1 {
+                c.expect(4..=5)?;
+                let [lo, hi] = c.numbers(2, ["lo", "hi"])?;
+                preset_colormap(&c.args()[1], lo, hi, c.args().get(4).map(String::as_str))
+                    .map(|m| (m, Vec::new()))
+                    .map_err(|e| format!("colormap preset: {e}"))?
+            } else {
+                c.expect(1..=1)?;
+                read_map::<dyn ColorShading>(&c.path(0)).map_err(|e| e.to_string())?
+            };
         check(s, &map, &s.alphamap)?;
         for w in warnings {
             s.reporter.warn(&w.to_string());
@@ -33,13 +45,21 @@ pub const COLORMAP: CommandInfo = CommandInfo {
 
 pub const ALPHAMAP: CommandInfo = CommandInfo {
     name: "alphamap",
-    usage: "file",
-    summary: "the alpha mapping: data → absorption χ (a '# VoRANG Alphamap 1.0' file)",
-    details: "Default without a file: constant absorption 2. Methods: CONSTANT, SIMPLE_ABSORBER, BARY_SHADING, CONST_CELL.",
+    usage: "file | ramp lo hi chi_max ?field?",
+    summary: "the alpha mapping: data → absorption χ (a '# VoRANG Alphamap 1.0' file, or a linear ramp over [lo, hi])",
+    details: "Default without a file: constant absorption 2. Methods: CONSTANT, SIMPLE_ABSORBER, BARY_SHADING, CONST_CELL. 'alphamap ramp 0 1 5' is a SIMPLE_ABSORBER table: χ = 0 at lo and below, chi_max at hi and above, linear in between, on field 0 or the given field. χ is per world unit: χ·length ≈ 4 is nearly opaque.",
     run: |s: &mut Session, c: &Call| {
-        c.expect(1..=1)?;
-        let (map, warnings) =
-            read_map::<dyn AlphaShading>(&c.path(0)).map_err(|e| e.to_string())?;
+        let (map, warnings) = if c.args().first().is_some_and(|a| a == "ramp") && c.args().len() > 1
+        {
+            c.expect(4..=5)?;
+            let [lo, hi, chi] = c.numbers(1, ["lo", "hi", "chi_max"])?;
+            ramp_alphamap(lo, hi, chi, c.args().get(4).map(String::as_str))
+                .map(|m| (m, Vec::new()))
+                .map_err(|e| format!("alphamap ramp: {e}"))?
+        } else {
+            c.expect(1..=1)?;
+            read_map::<dyn AlphaShading>(&c.path(0)).map_err(|e| e.to_string())?
+        };
         check(s, &s.colormap, &map)?;
         for w in warnings {
             s.reporter.warn(&w.to_string());
@@ -83,6 +103,31 @@ pub const LINEDRAW: CommandInfo = CommandInfo {
                 LineDraw::Cells { field, values }
             }
             _ => return Err(c.wrong_args()),
+        };
+        Ok(String::new())
+    },
+};
+
+pub const LEGEND: CommandInfo = CommandInfo {
+    name: "legend",
+    usage: "on|off ?right|left|top|bottom?",
+    summary: "draw the colormap as a bar with its range and a few labelled values into every image",
+    details: "Default: off; 'legend on' puts the bar on the right. The bar runs from the map's lowest table value to its highest (CONSTANT: the field's data range); colours above 1 are scaled down to the largest component. Maps with categories, IDENTITY or CONST_CELL have no single scale: the render warns and draws none.",
+    run: |s: &mut Session, c: &Call| {
+        c.expect(1..=2)?;
+        let place = match c.args().get(1) {
+            None => Place::Right,
+            Some(word) => Place::parse(word).ok_or_else(|| {
+                format!(
+                    "legend: expected a position {}, found '{word}'",
+                    Place::NAMES.join(", ")
+                )
+            })?,
+        };
+        s.legend = match c.args()[0].as_str() {
+            "on" => Some(place),
+            "off" => None,
+            other => return Err(format!("legend: expected on or off, found '{other}'")),
         };
         Ok(String::new())
     },

@@ -2,13 +2,13 @@
 
 use std::io::{IsTerminal, Write};
 use std::sync::Mutex;
-use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use super::{Call, CommandInfo};
 use crate::display::online::show_while_rendering;
 use crate::display::{Window, rgba8};
 use crate::framebuffer::{Background, format_for, numbered, write_image};
+use crate::legend::{self, ColorScale};
 use crate::mapping::Mapping;
 use crate::render::{Method, Order, Settings, TileSink, Watch, render_watched};
 use crate::script::Session;
@@ -87,7 +87,7 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
     for w in warnings {
         s.reporter.warn(&w.to_string());
     }
-    if s.next_number == u32::MAX {
+    if s.movie.is_none() && s.next_number == u32::MAX {
         return Err(format!(
             "{}: the image numbers are used up (the last was {}): use 'set_nr' to start again",
             c.info.name,
@@ -125,14 +125,17 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
     for l in &s.colormap.lines {
         l.method.take_clamped();
     }
+    // Ctrl-C cancels the render and keeps the session (script::interrupt).
     let run = |tile: Option<TileSink>| {
-        let cancel = AtomicBool::new(false);
         let watch = Watch {
             progress: Some(&|d, t| progress.update(d, t)),
             tile,
-            cancel: &cancel,
+            cancel: &crate::script::interrupt::CANCEL,
         };
-        render_watched(&vol, &mapping, view, &settings, &watch)
+        let rendering = crate::script::interrupt::Rendering::start();
+        let result = render_watched(&vol, &mapping, view, &settings, &watch);
+        drop(rendering);
+        result
     };
     // A window that cannot be opened (e.g. the script destroyed Tk's main window) costs the
     // picture on the screen, not the render: warn and write the file as without a display.
@@ -148,10 +151,10 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
             }
         },
     );
-    let result = match window {
+    let result = match &window {
         Some(window) => {
             let transparent = matches!(settings.background, Background::None);
-            let result = show_while_rendering(&window, transparent, |sink| run(Some(sink)))
+            let result = show_while_rendering(window, transparent, |sink| run(Some(sink)))
                 .map_err(|e| format!("{}: {e}", c.info.name))?;
             // The tiles covered the image; the whole frame once more makes sure the window
             // holds exactly the file's pixels.
@@ -165,7 +168,7 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
         None => run(None),
     };
     progress.clear();
-    let (fb, stats) = result.map_err(|e| format!("{}: {e}", c.info.name))?;
+    let (mut fb, stats) = result.map_err(|e| format!("{}: {e}", c.info.name))?;
     let clamped: u64 = s
         .colormap
         .lines
@@ -179,8 +182,44 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
         ));
     }
     let seconds = started.elapsed().as_secs_f64();
-    write_image(&fb, &path).map_err(|e| e.to_string())?;
-    s.next_number += 1;
+    if let Some(place) = s.legend {
+        match ColorScale::of_map(&s.colormap, &vol) {
+            Ok(scale) => {
+                if !legend::draw(&mut fb, place, &scale) {
+                    s.reporter.warn(&format!(
+                        "{}: the image is too small for a legend (48 pixels at least)",
+                        c.info.name
+                    ));
+                }
+            }
+            Err(e) => s.reporter.warn(&format!("{}: no legend: {e}", c.info.name)),
+        }
+        // The window shows what the file holds, legend included.
+        if let Some(window) = &window {
+            let _ = window.put_all(&rgba8(&fb.pixels, fb.transparent));
+            window.update();
+        }
+    }
+    // While a movie is open the frame goes to it; otherwise the next numbered image.
+    let (shown, written) = match &mut s.movie {
+        Some(movie) => {
+            movie
+                .add(&fb)
+                .map_err(|e| format!("{}: {e}", c.info.name))?;
+            let shown = format!(
+                "{} frame {}",
+                crate::script::locate_display(&movie.path),
+                movie.frames()
+            );
+            (shown, movie.path.clone())
+        }
+        None => {
+            write_image(&fb, &path).map_err(|e| e.to_string())?;
+            s.next_number += 1;
+            s.written.push(path.clone());
+            (crate::script::locate_display(&path), path)
+        }
+    };
     if let Some((x, y)) = stats.first_non_finite {
         s.reporter.warn(&format!(
             "{}: {} pixels are NaN or infinite (the first at x {x}, y {y}): an overflow in the data or maps; please report it",
@@ -205,7 +244,7 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
     }
     s.reporter.info(&format!(
         "{}  {}×{}  {} cells  {:.3} s  max {}",
-        crate::script::locate_display(&path),
+        shown,
         fb.width,
         fb.height,
         stats.cells,
@@ -233,8 +272,7 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
             rayon::current_num_threads()
         ));
     }
-    s.written.push(path.clone());
-    Ok(path.display().to_string())
+    Ok(written.display().to_string())
 }
 
 pub const RENDER_BTF: CommandInfo = CommandInfo {
