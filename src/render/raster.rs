@@ -178,25 +178,31 @@ struct Convex<const N: usize> {
     y1: usize,
 }
 
+/// The pixels `[x0, x1, y0, y1]` (exclusive ends) of `rect` whose centres `i + ½` lie in the
+/// bounding box of `points`; `None` if there are none. One definition for every scan of an
+/// outline, so they all start from the same pixels.
+#[inline]
+pub(super) fn pixel_box(points: &[[f64; 2]], rect: Rect) -> Option<[usize; 4]> {
+    let (mut min_x, mut max_x, mut min_y, mut max_y) =
+        (points[0][0], points[0][0], points[0][1], points[0][1]);
+    for p in &points[1..] {
+        min_x = min_x.min(p[0]);
+        max_x = max_x.max(p[0]);
+        min_y = min_y.min(p[1]);
+        max_y = max_y.max(p[1]);
+    }
+    let lo = |m: f64, r0: usize| ((-floor(0.5 - m)).max(r0 as f64)) as usize;
+    let hi = |m: f64, r1: usize| ((floor(m - 0.5) + 1.0).min(r1 as f64).max(0.0)) as usize;
+    let (x0, x1) = (lo(min_x, rect.x0), hi(max_x, rect.x1));
+    let (y0, y1) = (lo(min_y, rect.y0), hi(max_y, rect.y1));
+    (x0 < x1 && y0 < y1).then_some([x0, x1, y0, y1])
+}
+
 impl<const N: usize> Convex<N> {
     /// `None` if no pixel centre of `rect` lies in its bounding box.
     #[inline]
     fn new(v: [[f64; 2]; N], rect: Rect) -> Option<Self> {
-        let (mut min_x, mut max_x, mut min_y, mut max_y) = (v[0][0], v[0][0], v[0][1], v[0][1]);
-        for p in &v[1..] {
-            min_x = min_x.min(p[0]);
-            max_x = max_x.max(p[0]);
-            min_y = min_y.min(p[1]);
-            max_y = max_y.max(p[1]);
-        }
-        // Pixel centres i + ½ within [min, max].
-        let lo = |m: f64, r0: usize| ((-floor(0.5 - m)).max(r0 as f64)) as usize;
-        let hi = |m: f64, r1: usize| ((floor(m - 0.5) + 1.0).min(r1 as f64).max(0.0)) as usize;
-        let (x0, x1) = (lo(min_x, rect.x0), hi(max_x, rect.x1));
-        let (y0, y1) = (lo(min_y, rect.y0), hi(max_y, rect.y1));
-        if x0 >= x1 || y0 >= y1 {
-            return None;
-        }
+        let [x0, x1, y0, y1] = pixel_box(&v, rect)?;
         // Top-left ownership of each edge k: v[k] → v[k+1] ([`owns`]). An edge shared with
         // another polygon runs the other way there, so exactly one of the two owns it.
         let ends = std::array::from_fn(|k| [v[k], v[(k + 1) % N]]);
@@ -323,7 +329,7 @@ pub const ROOT_ERROR: f64 = 1e-14;
 /// `⌊x⌋` without a library call (the baseline x86-64 target has no rounding instruction);
 /// saturating for values beyond ±2⁶³, which the callers clamp anyway.
 #[inline]
-pub(super) fn floor(x: f64) -> f64 {
+fn floor(x: f64) -> f64 {
     let t = x as i64 as f64;
     if t > x { t - 1.0 } else { t }
 }

@@ -14,7 +14,7 @@
 #[cfg(doc)]
 use super::faces::CellFaces;
 use super::faces::{EDGE_OF, Row, inside};
-use super::raster::{ROOT_ERROR, Rect, boundary, floor};
+use super::raster::{ROOT_ERROR, Rect, boundary, pixel_box};
 use crate::mesh::EDGE_NODES;
 
 /// Lanes: the six cell edges, padded.
@@ -116,20 +116,8 @@ impl CellRows {
                 rows.before |= 1 << e;
             }
         }
-        // Pixel centres i + ½ within the outline's bounding box (as the scan conversion).
-        let (mut min_x, mut max_x, mut min_y, mut max_y) =
-            (hull[0][0], hull[0][0], hull[0][1], hull[0][1]);
-        for p in &hull[1..] {
-            min_x = min_x.min(p[0]);
-            max_x = max_x.max(p[0]);
-            min_y = min_y.min(p[1]);
-            max_y = max_y.max(p[1]);
-        }
-        let lo = |m: f64, r0: usize| ((-floor(0.5 - m)).max(r0 as f64)) as usize;
-        let hi = |m: f64, r1: usize| ((floor(m - 0.5) + 1.0).min(r1 as f64).max(0.0)) as usize;
-        let (x0, x1) = (lo(min_x, rect.x0), hi(max_x, rect.x1));
-        let (y0, y1) = (lo(min_y, rect.y0), hi(max_y, rect.y1));
-        if x0 < x1 && y0 < y1 {
+        // Pixel centres within the outline's bounding box, as the scan conversion takes them.
+        if let Some([x0, x1, y0, y1]) = pixel_box(hull, rect) {
             (rows.x0, rows.x1, rows.y0, rows.y1) = (x0, x1, y0, y1);
         }
         Some(rows)
