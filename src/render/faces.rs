@@ -461,18 +461,9 @@ pub struct DepthRow {
 }
 
 impl DepthRow {
-    /// The depth at pixel centre `px`: [`CellFaces::depth`]'s expression term by term.
-    #[inline(always)]
-    pub fn at(&self, px: f64) -> f64 {
-        if self.perspective {
-            self.at_view::<true>(px)
-        } else {
-            self.at_view::<false>(px)
-        }
-    }
-
-    /// [`DepthRow::at`] for a row known to be perspective (`PERSP`) or not, so that a loop over
-    /// pixels has no branch (or masked division) in it.
+    /// The depth at pixel centre `px`, [`CellFaces::depth`]'s expression term by term, for a
+    /// row known to be perspective (`PERSP`) or not, so that a loop over pixels has no branch
+    /// (or masked division) in it.
     #[inline(always)]
     pub fn at_view<const PERSP: bool>(&self, px: f64) -> f64 {
         debug_assert_eq!(PERSP, self.perspective);

@@ -220,7 +220,7 @@ mod tests {
                 y1: 17,
             },
         ];
-        let (mut cells, mut ties) = (0, 0);
+        let (mut cells, mut on_grid) = (0, 0);
         for trial in 0..3000 {
             let grid = trial % 2 == 0;
             let eye: [[f64; 3]; 4] = std::array::from_fn(|_| {
@@ -264,14 +264,14 @@ mod tests {
                     }
                     assert_eq!(got, want, "trial {trial}: {screen:?}");
                     cells += 1;
-                    // Rows where some centre lies exactly on an edge.
-                    ties += (grid && !want.is_empty()) as usize;
+                    // Cells whose nodes lie on the grid of halves: pixel centres on their edges.
+                    on_grid += (grid && !want.is_empty()) as usize;
                 }
             }
         }
         assert!(
-            cells > 5000 && ties > 1000,
-            "{cells} cells, {ties} on the grid"
+            cells > 5000 && on_grid > 1000,
+            "{cells} cells, {on_grid} on the grid"
         );
     }
 }

@@ -312,19 +312,18 @@ impl SpanBuffer {
     }
 }
 
-/// Integrates every pixel of `buf` for `cell`: fills `buf.b` and `buf.theta` — or, for a cell
-/// with a [`Clip`], composites the piece's contribution behind what they hold (so pieces are
-/// shaded from the nearest to the farthest along the rays; start from [`SpanBuffer::reset`]).
+/// Integrates every pixel of `buf` for `cell` with the baseline kernel: fills `buf.b` and
+/// `buf.theta` — or, for a cell with a [`Clip`], composites the piece's contribution behind what
+/// they hold. (Rendering goes through [`draw`], which dispatches to the widest kernel; the tests
+/// compare every kernel there.)
 #[cfg(test)]
 pub fn shade(cell: &SpanCell, buf: &mut SpanBuffer) {
-    shade_with(kernel(), cell, buf);
-}
-
-/// [`shade`] with the kernel compiled for `k` (the baseline one where the processor lacks
-/// `k`'s features).
-#[cfg(test)]
-fn shade_with(k: Kernel, cell: &SpanCell, buf: &mut SpanBuffer) {
-    run_on(k, cell, buf);
+    match (cell.clip.is_some(), cell.rays.is_some()) {
+        (false, false) => kernel_body::<LANES, false, false>(cell, buf),
+        (true, false) => kernel_body::<LANES, true, false>(cell, buf),
+        (false, true) => kernel_body::<LANES, false, true>(cell, buf),
+        (true, true) => kernel_body::<LANES, true, true>(cell, buf),
+    }
 }
 
 /// Draws a cell through the kernel: gathers the pixels of its footprint `hull` in `rect` (the
@@ -665,53 +664,6 @@ pub fn supported(k: Kernel) -> bool {
     }
 }
 
-/// Runs the kernel compiled for `k`, or the baseline one where the processor lacks `k`'s
-/// features.
-#[cfg(test)]
-fn run_on(k: Kernel, cell: &SpanCell, buf: &mut SpanBuffer) {
-    match k {
-        // SAFETY (both): the processor reported the features the function is compiled for.
-        #[cfg(target_arch = "x86_64")]
-        Kernel::Avx2 if supported(k) => unsafe {
-            match (cell.clip.is_some(), cell.rays.is_some()) {
-                (false, false) => kernel_avx2::<false, false>(cell, buf),
-                (true, false) => kernel_avx2::<true, false>(cell, buf),
-                (false, true) => kernel_avx2::<false, true>(cell, buf),
-                (true, true) => kernel_avx2::<true, true>(cell, buf),
-            }
-        },
-        #[cfg(target_arch = "x86_64")]
-        Kernel::Avx512 if supported(k) => unsafe {
-            match (cell.clip.is_some(), cell.rays.is_some()) {
-                (false, false) => kernel_avx512::<false, false>(cell, buf),
-                (true, false) => kernel_avx512::<true, false>(cell, buf),
-                (false, true) => kernel_avx512::<false, true>(cell, buf),
-                (true, true) => kernel_avx512::<true, true>(cell, buf),
-            }
-        },
-        _ => match (cell.clip.is_some(), cell.rays.is_some()) {
-            (false, false) => kernel_body::<LANES, false, false>(cell, buf),
-            (true, false) => kernel_body::<LANES, true, false>(cell, buf),
-            (false, true) => kernel_body::<LANES, false, true>(cell, buf),
-            (true, true) => kernel_body::<LANES, true, true>(cell, buf),
-        },
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[cfg(test)]
-#[target_feature(enable = "avx2")]
-fn kernel_avx2<const CLIP: bool, const PERSP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
-    kernel_body::<16, CLIP, PERSP>(cell, buf)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[cfg(test)]
-#[target_feature(enable = "avx512f")]
-fn kernel_avx512<const CLIP: bool, const PERSP: bool>(cell: &SpanCell, buf: &mut SpanBuffer) {
-    kernel_body::<32, CLIP, PERSP>(cell, buf)
-}
-
 /// The kernel: the (padded) buffer in batches of `WIDE` pixels, the rest in batches of
 /// [`LANES`]. A batch's series is one chain of dependent multiplications per lane; several
 /// registers of lanes side by side keep the processor's pipelines full instead of waiting on
@@ -886,37 +838,9 @@ mod tests {
         }
     }
 
-    #[test]
-    fn every_compiled_kernel_gives_the_same_bits() {
-        let c = cell();
-        let mut reference = buffer(77);
-        shade(&c, &mut reference);
-        #[cfg(target_arch = "x86_64")]
-        let kinds = [Kernel::Baseline, Kernel::Avx2, Kernel::Avx512];
-        #[cfg(not(target_arch = "x86_64"))]
-        let kinds = [Kernel::Baseline];
-        for k in kinds.into_iter().filter(|&k| supported(k)) {
-            let mut buf = buffer(77);
-            shade_with(k, &c, &mut buf);
-            for i in 0..77 {
-                for ch in 0..3 {
-                    assert_eq!(
-                        buf.b[ch][i].to_bits(),
-                        reference.b[ch][i].to_bits(),
-                        "{k:?}"
-                    );
-                }
-                assert_eq!(
-                    buf.theta[i].to_bits(),
-                    reference.theta[i].to_bits(),
-                    "{k:?}"
-                );
-            }
-        }
-    }
-
-    /// The whole draw (gathering, kernel, compositing) compiled for each kernel: the same bits,
-    /// for one piece and for a cell cut into two pieces by a clip.
+    /// The whole draw (gathering, the kernel in batches of 8, 16 or 32 lanes, compositing)
+    /// compiled for each kernel: the same bits, for one piece and for a cell cut into two
+    /// pieces by a clip.
     #[test]
     fn every_compiled_draw_gives_the_same_bits() {
         use crate::render::faces::entry_sign;
