@@ -376,3 +376,16 @@ fn info_shows_each_part_and_suggests_the_modulus() {
     let a = vorang::mapping::ramp_alphamap(1.0, 5.0, 2.0, Some("abs(2)")).unwrap();
     Mapping::new(&c, &a, &vol).unwrap();
 }
+
+#[test]
+fn the_legend_of_a_constant_colour_spans_the_part_s_range() {
+    let vol = volume([[3.0, 4.0], [0.6, -0.8]]);
+    let c = parse_map::<dyn ColorShading>(
+        b"# VoRANG Colormap 1.0\nDataField abs(2)\nCONSTANT @1\n@1\n1 0 0\n",
+        "c.map",
+    )
+    .unwrap()
+    .0;
+    let scale = vorang::legend::ColorScale::of_map(&c, &vol).unwrap();
+    assert_eq!((scale.lo, scale.hi), (1.0, 5.0));
+}
