@@ -191,6 +191,9 @@ pub struct Options {
     pub brightness: f64,
     /// The absolute error aimed at per cell interval.
     pub tolerance: f64,
+    /// The lights for `LIT_EMITTER` (none: the default light at the camera). The lighting
+    /// factor itself is the mapping's ([`crate::scene::Lighting`]), not re-derived here.
+    pub lights: Vec<crate::scene::Light>,
 }
 
 impl Options {
@@ -202,6 +205,7 @@ impl Options {
             background: Background::default(),
             brightness: 1.0,
             tolerance: 1e-13,
+            lights: Vec::new(),
         }
     }
 }
@@ -216,6 +220,14 @@ pub fn render(vol: &Volume, mapping: &Mapping, view: &View, opts: &Options) -> V
     let background = &opts.background;
     let mesh = &vol.mesh;
     let bbox = mesh.bbox();
+    let lit;
+    let mapping = match crate::scene::Lighting::new(&opts.lights, view, bbox.center()) {
+        Some(lighting) if mapping.is_lit() => {
+            lit = mapping.lit(lighting);
+            &lit
+        }
+        _ => mapping,
+    };
     let to_world = model(view, bbox.center());
     let world: Vec<[f64; 3]> = mesh.nodes().iter().map(|&p| point(&to_world, p)).collect();
     let cam = camera_to_world(&view.look_at);

@@ -389,3 +389,16 @@ fn the_legend_of_a_constant_colour_spans_the_part_s_range() {
     let scale = vorang::legend::ColorScale::of_map(&c, &vol).unwrap();
     assert_eq!((scale.lo, scale.hi), (1.0, 5.0));
 }
+
+#[test]
+fn lighting_refuses_a_part_of_a_complex_field() {
+    // LIT_EMITTER shades by the field's gradient, which a part of a complex field lacks.
+    let vol = volume([[0.0, 0.0]; 2]);
+    let (_, a) = maps("abs(0)");
+    let lit = "# VoRANG Colormap 1.0\nDataField im(0)\nLIT_EMITTER @1\n@1\n0.2 1 0.5 16\n1 1 1 0\n";
+    assert_eq!(
+        bind(&vol, lit, &a).unwrap_err(),
+        "c.map:3: LIT_EMITTER: im(0): lighting needs the gradient of a real field, which the imaginary part of a complex field does not provide"
+    );
+    assert!(bind(&vol, &lit.replace("im(0)", "1"), &a).is_ok());
+}

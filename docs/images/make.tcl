@@ -58,6 +58,8 @@ proc picture {name w h setup} {
 
 # The data sets, each with a camera that shows it well; `volume` resets maps and transforms.
 proc scene {args} {
+    # No lights of an earlier picture (removelight fails when none is left).
+    while {![catch {removelight 1}]} {}
     linedraw off
     legend off
     background clear
@@ -111,6 +113,10 @@ picture color_identity 320 192 {
 picture color_const_cell 320 200 {
     scene inclusion; cmap material.cmap; amap material.amap
     background 0 0 0; method exact linear 0 1.5
+}
+picture color_lit_emitter 256 256 {
+    scene gauss; cmap lit.cmap; amap cloud.amap; addlight 1 1 1 -1 1 1
+    background 0 0 0; method exact constEA 0.01 3
 }
 
 # Alpha methods.

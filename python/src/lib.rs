@@ -506,14 +506,16 @@ type Vec3 = [f64; 3];
 
 /// render(volume, *, size=(512, 512), colormap=None, alphamap=None, method="test 0.5",
 /// persp=None, ortho=None, look_at=None, rotate=(), scale=None, translate=None,
-/// background="white", linedraw="on")
+/// background="white", linedraw="on", lights=())
 ///
 /// Renders back to front and returns a float32 array of shape (h, w, 4), first row at the top:
 /// RGB exactly as the PFM output of the equivalent script holds it, plus alpha (the volume's
 /// opacity 1 − T). The volume transforms are applied as the script commands `vol_scale`,
-/// `vol_rotate` (each of `rotate`, in order), `vol_translate` given in that order.
+/// `vol_rotate` (each of `rotate`, in order), `vol_translate` given in that order. `lights` are
+/// `(r, g, b, dx, dy, dz)` tuples, each an `addlight` (they shade `LIT_EMITTER` colormaps; none:
+/// one white light at the camera).
 #[pyfunction]
-#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="test 0.5", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="on", progress=None))]
+#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="test 0.5", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="on", lights=Vec::new(), progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -530,6 +532,7 @@ fn render<'py>(
     translate: Option<Vec3>,
     background: Option<&Bound<'py, PyAny>>,
     linedraw: &str,
+    lights: Vec<[f64; 6]>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let vol = Arc::clone(&volume.get().inner);
@@ -588,6 +591,9 @@ fn render<'py>(
     }
     let lwords: Vec<String> = linedraw.split_whitespace().map(tcl_word).collect();
     script.push(format!("linedraw {}", lwords.join(" ")));
+    for l in &lights {
+        script.push(format!("addlight {}", nums(l)));
+    }
 
     let colormap = load_color(map_arg(colormap, "colormap")?)?;
     let alphamap = load_alpha(map_arg(alphamap, "alphamap")?)?;

@@ -147,6 +147,32 @@ def test_table_maps_equal_cli(tmp_path):
     assert np.array_equal(img, img2)
 
 
+def test_lights_equal_cli(tmp_path):
+    cmap = (
+        "# VoRANG Colormap 1.0\nDataField \"temperature\"\nLIT_EMITTER @1\n@1\n"
+        "0.2 0.8 0.5 10\n0 0 1 0.2\n1 1 0 3\n"
+    )
+    (tmp_path / "lit.cmap").write_text(cmap)
+    vol = vorang.Volume.read(str(INCLUSION / "inclusion.vtu"))
+    kwargs = dict(size=(32, 24), colormap=cmap, method="exact linear 0 1.0", linedraw="off")
+    img = vorang.render(vol, lights=[(1, 0.9, 0.8, 1, 1, 1), (0, 0, 1, -1, 0, 0)], **kwargs)
+    ref = cli_render(
+        tmp_path,
+        INCLUSION / "inclusion.vtu",
+        [
+            f"colormap {{{tmp_path / 'lit.cmap'}}}",
+            "imagesize 32 24",
+            "method exact linear 0 1.0",
+            "linedraw off",
+            "addlight 1 0.9 0.8 1 1 1",
+            "addlight 0 0 1 -1 0 0",
+        ],
+    )
+    assert np.array_equal(img[:, :, :3], ref)
+    # The lights matter: the default light at the camera gives another image.
+    assert not np.array_equal(vorang.render(vol, **kwargs), img)
+
+
 def test_save_and_run_script(tmp_path):
     vol = vorang.Volume.read(str(INCLUSION / "inclusion.vtu"))
     img = vorang.render(vol, size=(20, 10))

@@ -35,6 +35,7 @@ def render(
     translate=None,
     background="white",
     linedraw="on",
+    lights=(),
     progress=None,
 ):
     """Renders `volume` back to front; returns a float32 array of shape (h, w, 4).
@@ -52,6 +53,9 @@ def render(
     `rotate` in order, `vol_translate translate`. background: "white" (= "clear"), "none"
     (no background light, transparent), an (r, g, b) tuple or an image path (`background`).
     linedraw: "on" (the script's default: all grid lines), "off", or "field {values}".
+    lights: (r, g, b, dx, dy, dz) tuples, each an `addlight` (a light of that colour at infinity
+    in direction (dx, dy, dz), world coordinates); they shade `LIT_EMITTER` colormaps. None
+    given: one white light at the camera.
 
     progress: called as progress(done, total) as screen tiles finish, or a tqdm-like object
     (with `update`): its `total` is set and update(1) called per tile.
@@ -75,6 +79,7 @@ def render(
         translate=None if translate is None else tuple(translate),
         background=background,
         linedraw=linedraw,
+        lights=[tuple(l) for l in lights],
         progress=progress,
     )
 

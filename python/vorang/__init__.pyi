@@ -82,6 +82,7 @@ def render(
     translate: Optional[_Vec3] = None,
     background: Union[str, _Vec3, _Path, None] = "white",
     linedraw: str = "on",
+    lights: Sequence[Tuple[float, float, float, float, float, float]] = (),
     progress: Optional[object] = None,
 ) -> npt.NDArray[np.float32]: ...
 def save(image: npt.ArrayLike, path: _Path, *, transparent: bool = False) -> None: ...

@@ -30,7 +30,9 @@ pub fn eval(on: &Support, raw: &RawData, cell: usize, lambda: &[f64; 4], out: &m
     }
 }
 
-/// `∇f = Σ v_i ∇λ_i` for number `c` of each node value.
+/// `∇f = Σ v_i ∇λ_i` for number `c` of each node value, summed as `Σ_{i≥1} (v_i − v_0) ∇λ_i`
+/// (the same, as `Σ ∇λ_i = 0`) so that equal node values give exactly zero, not rounding
+/// noise whose direction would light a flat field at random.
 pub fn gradient(on: &Support, raw: &RawData, cell: usize, c: usize) -> Option<[f64; 3]> {
     let n = raw.ty.numbers();
     if c >= n {
@@ -38,11 +40,12 @@ pub fn gradient(on: &Support, raw: &RawData, cell: usize, c: usize) -> Option<[f
     }
     let grads = barycentric_gradients(&on.mesh.corners(cell))?;
     let nodes = on.mesh.tets()[cell];
+    let v0 = raw.values.get(nodes[0] as usize * n + c);
     let mut g = [0.0; 3];
-    for i in 0..4 {
-        let v = raw.values.get(nodes[i] as usize * n + c);
+    for i in 1..4 {
+        let d = raw.values.get(nodes[i] as usize * n + c) - v0;
         for k in 0..3 {
-            g[k] += v * grads[i][k];
+            g[k] += d * grads[i][k];
         }
     }
     Some(g)

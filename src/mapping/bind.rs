@@ -8,7 +8,9 @@ use super::{
 };
 use crate::error::{ParseError, Warning};
 use crate::field::Interpolator;
+use crate::scene::Lighting;
 use crate::volume::Volume;
+use std::sync::Arc;
 
 /// Where one field's value sits in the per-sample buffer.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -23,6 +25,8 @@ struct Slot {
 struct Layout {
     category: Option<Slot>,
     lines: Vec<Option<Slot>>,
+    /// Per line, where the gradient of its field sits (`LIT_EMITTER` lines only).
+    gradients: Vec<Option<Slot>>,
 }
 
 /// The method line of each map that applies at a point (`None`: no line matches its category
@@ -58,6 +62,11 @@ pub struct Mapping {
     width: usize,
     color_layout: Layout,
     alpha_layout: Layout,
+    /// Fields whose gradient (file coordinates) is evaluated per sample, and where it goes.
+    gradient_fields: Vec<(usize, Slot)>,
+    /// The lights of the frame being rendered ([`Mapping::lit`]); `None` until a renderer sets
+    /// them, which then means the default light of the default view.
+    lighting: Option<Arc<Lighting>>,
 }
 
 /// How a field varies along a straight segment inside one cell.
@@ -75,6 +84,10 @@ pub fn field_shape(i: Interpolator) -> Shape {
 trait Shading {
     fn need(&self) -> FieldNeed;
     fn bytes(&self) -> Option<[bool; 256]>;
+    /// Whether the method is shaded by the lights (needs the field's gradient).
+    fn lit(&self) -> bool {
+        false
+    }
 }
 
 impl Shading for dyn ColorShading {
@@ -83,6 +96,9 @@ impl Shading for dyn ColorShading {
     }
     fn bytes(&self) -> Option<[bool; 256]> {
         self.defined_bytes()
+    }
+    fn lit(&self) -> bool {
+        self.phong().is_some()
     }
 }
 
@@ -102,6 +118,7 @@ struct Binder<'a> {
     slots: Vec<Slot>,
     parts: Vec<Option<Part>>,
     width: usize,
+    gradient_fields: Vec<(usize, Slot)>,
     warnings: Vec<Warning>,
 }
 
@@ -122,6 +139,20 @@ impl Binder<'_> {
         self.slots.push(s);
         self.parts.push(part);
         self.width += if part.is_some() { 3 * len } else { len };
+        s
+    }
+
+    /// Where the gradient of `field` goes (three numbers), shared by the lines that need it.
+    fn gradient_slot(&mut self, field: usize) -> Slot {
+        if let Some((_, s)) = self.gradient_fields.iter().find(|(f, _)| *f == field) {
+            return *s;
+        }
+        let s = Slot {
+            offset: self.width,
+            len: 3,
+        };
+        self.gradient_fields.push((field, s));
+        self.width += 3;
         s
     }
 
@@ -169,7 +200,8 @@ impl Binder<'_> {
             None => None,
         };
         let mut lines = Vec::with_capacity(map.lines.len());
-        for l in &map.lines {
+        let mut gradients = vec![None; map.lines.len()];
+        for (k, l) in map.lines.iter().enumerate() {
             let need = l.method.need();
             if need == FieldNeed::Any {
                 lines.push(None);
@@ -221,8 +253,28 @@ impl Binder<'_> {
                 self.warn_missing_bytes(file, l.line, l.name, n, &def);
             }
             lines.push(Some(self.slot(n, r.part, len)));
+            if l.method.lit() {
+                // The lighting gradient is the field's own (its real part for a complex field
+                // of some interpolators, undefined for others): a part is not shaded.
+                if let Some(p) = r.part {
+                    return Err(ParseError::new(
+                        file,
+                        l.line,
+                        format!(
+                            "{}: {r}: lighting needs the gradient of a real field, which the {} of a complex field does not provide",
+                            l.name,
+                            p.meaning()
+                        ),
+                    ));
+                }
+                gradients[k] = Some(self.gradient_slot(n));
+            }
         }
-        Ok(Layout { category, lines })
+        Ok(Layout {
+            category,
+            lines,
+            gradients,
+        })
     }
 
     /// One warning listing the byte values the field takes that a CONST_CELL table lacks.
@@ -288,6 +340,7 @@ impl Mapping {
             slots: Vec::new(),
             parts: Vec::new(),
             width: 0,
+            gradient_fields: Vec::new(),
             warnings: Vec::new(),
         };
         let alpha_layout = b.bind(alpha)?;
@@ -325,9 +378,25 @@ impl Mapping {
                 width: b.width,
                 color_layout,
                 alpha_layout,
+                gradient_fields: b.gradient_fields,
+                lighting: None,
             },
             b.warnings,
         ))
+    }
+
+    /// Whether a colour line is shaded by lights (`LIT_EMITTER`).
+    pub fn is_lit(&self) -> bool {
+        !self.gradient_fields.is_empty()
+    }
+
+    /// The mapping with the lights of a frame (a renderer calls this once per frame, with the
+    /// frame's view: the default light follows the camera).
+    pub fn lit(&self, lighting: Lighting) -> Mapping {
+        Mapping {
+            lighting: Some(Arc::new(lighting)),
+            ..self.clone()
+        }
     }
 
     /// The fields to evaluate per sample, in buffer order.
@@ -361,6 +430,10 @@ impl Mapping {
                     p.part.apply(pairs, &mut head[s.offset..s.offset + s.len]);
                 }
             }
+        }
+        for &(f, s) in &self.gradient_fields {
+            let g = vol.data.fields[f].gradient_at(&on, cell, lambda, pos);
+            buf[s.offset..s.offset + 3].copy_from_slice(&g);
         }
     }
 
@@ -402,9 +475,20 @@ impl Mapping {
         let eta = match lines.color {
             Some(i) => {
                 let value = slice(self.color_layout.lines[i]);
-                self.color.lines[i]
-                    .method
-                    .color(&Point { value, cell, pos }, chi)
+                let method = &self.color.lines[i].method;
+                let eta = method.color(&Point { value, cell, pos }, chi);
+                match (method.phong(), self.color_layout.gradients[i]) {
+                    (Some(phong), Some(g)) => {
+                        let gradient =
+                            [values[g.offset], values[g.offset + 1], values[g.offset + 2]];
+                        let f = match &self.lighting {
+                            Some(l) => l.factor(phong, gradient),
+                            None => default_lighting().factor(phong, gradient),
+                        };
+                        [0, 1, 2].map(|c| eta[c] * f[c])
+                    }
+                    _ => eta,
+                }
             }
             None => [0.0; 3],
         };
@@ -495,7 +579,14 @@ impl Mapping {
         let eta = match lines.color {
             Some(i) => {
                 let m = &self.color.lines[i].method;
-                let own = along(self.color_layout.lines[i], m.shape());
+                let mut own = along(self.color_layout.lines[i], m.shape());
+                // The lighting factor follows the gradient: constant inside a cell only where
+                // the field is at most linear.
+                if m.phong().is_some()
+                    && along(self.color_layout.lines[i], Shape::Linear) > Shape::Linear
+                {
+                    own = Shape::Nonlinear;
+                }
                 if m.uses_absorption() {
                     own.times(chi)
                 } else {
@@ -579,4 +670,14 @@ fn interval_bounds<T: ?Sized>(map: &MapFile<T>) -> Vec<f64> {
         .flat_map(|i| [i.from, i.to])
         .flatten()
         .collect()
+}
+
+/// The lighting of the default view (one white light at the camera, looking along −z), for a
+/// mapping evaluated outside a renderer.
+fn default_lighting() -> &'static Lighting {
+    static DEFAULT: std::sync::OnceLock<Lighting> = std::sync::OnceLock::new();
+    DEFAULT.get_or_init(|| {
+        Lighting::new(&[], &crate::scene::View::default(), [0.0; 3])
+            .expect("the identity transform is regular")
+    })
 }

@@ -133,6 +133,11 @@ pub trait ColorShading: Send + Sync + fmt::Debug {
     fn take_clamped(&self) -> u64 {
         0
     }
+    /// `LIT_EMITTER`'s lighting parameters: the mapping multiplies [`ColorShading::color`] by
+    /// the lights' factor at the point, from the field's gradient ([`crate::scene::Lighting`]).
+    fn phong(&self) -> Option<&crate::scene::Phong> {
+        None
+    }
 }
 
 /// An alpha shading method: data → absorption χ.
@@ -177,6 +182,7 @@ pub const COLOR_METHODS: &[MethodInfo<dyn ColorShading>] = &[
     color::simple_emitter::INFO,
     color::absorption_weighted::INFO,
     color::const_cell::INFO,
+    color::lit_emitter::INFO,
 ];
 
 /// Every alpha shading method (thesis C.2).

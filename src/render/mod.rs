@@ -59,7 +59,7 @@ use crate::error::Error;
 use crate::framebuffer::{Background, Framebuffer};
 use crate::mapping::Mapping;
 use crate::mesh::NO_NEIGHBOR;
-use crate::scene::{Projector, View};
+use crate::scene::{Lighting, Projector, View};
 use crate::sort::{self, SortInput};
 use crate::volume::Volume;
 
@@ -100,6 +100,9 @@ pub struct Settings {
     /// Let whole cells go through the SIMD span kernels where they apply ([`span`]); off, every
     /// pixel takes the scalar reference path (for tests and comparisons).
     pub span_kernels: bool,
+    /// `addlight`: the lights of the scene, for `LIT_EMITTER` ([`crate::scene::light`]); none
+    /// = one white light at the camera.
+    pub lights: Vec<crate::scene::Light>,
 }
 
 impl Default for Settings {
@@ -114,6 +117,7 @@ impl Default for Settings {
             background: Background::default(),
             tile: TILE,
             span_kernels: true,
+            lights: Vec::new(),
         }
     }
 }
@@ -276,6 +280,15 @@ pub fn render_watched(
                 .into(),
         )
     })?;
+    // LIT_EMITTER: the lights of this frame (the default light follows the camera).
+    let lit;
+    let mapping = match Lighting::new(&settings.lights, view, bbox.center()) {
+        Some(lighting) if mapping.is_lit() => {
+            lit = mapping.lit(lighting);
+            &lit
+        }
+        _ => mapping,
+    };
     let to_eye = view.view_matrix().after(&model);
     // A mirror turns every orientation around; accounted for once, here.
     let mirrored = to_eye.determinant() < 0.0;

@@ -8,9 +8,11 @@
 //! rigid view preserves.
 
 mod camera;
+pub mod light;
 pub mod transform;
 
 pub use camera::{Camera, Projector, Ray, RayPlanes, SUBPIXEL, snap};
+pub use light::{Light, Lighting, Phong};
 pub use transform::Affine;
 
 use transform::{cross, dot, norm, sub};

@@ -67,13 +67,6 @@ impl Reporter for Collect {
     }
 }
 
-/// A light from `addlight` (stored for the shading method that will use them).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Light {
-    pub color: [f64; 3],
-    pub direction: [f64; 3],
-}
-
 /// The state scripts edit.
 pub struct Session {
     pub volume: Option<Arc<Volume>>,
@@ -86,7 +79,6 @@ pub struct Session {
     pub output: PathBuf,
     /// The number of the next image (the first is 1).
     pub next_number: u32,
-    pub lights: Vec<Light>,
     /// `legend on ?position?`: where the colour legend goes (none by default).
     pub legend: Option<crate::legend::Place>,
     /// `movie FILE`: while open, renders add frames to it instead of writing images.
@@ -111,7 +103,6 @@ impl Session {
             settings: Settings::default(),
             output: PathBuf::from("vorang.tiff"),
             next_number: 1,
-            lights: Vec::new(),
             legend: None,
             movie: None,
             last_help: None,

@@ -83,5 +83,5 @@ assert {[file exists $::tmp/commands/img.0009.png]}
 
 assert {[string match "*render_btf*" [help]]}
 assert {[string match "*exact integration step brightness*" [help method]]}
-assert {[string match "*no shading method uses them yet*" [help addlight]]}
+assert {[string match "*LIT_EMITTER*" [help addlight]]}
 expect_error {help nope} {*no VoRANG command 'nope'*}

@@ -4,4 +4,5 @@ pub mod absorption_weighted;
 pub mod const_cell;
 pub mod constant;
 pub mod identity;
+pub mod lit_emitter;
 pub mod simple_emitter;

@@ -21,7 +21,7 @@ pub const COLORMAP: CommandInfo = CommandInfo {
     name: "colormap",
     usage: "file | preset name lo hi ?field?",
     summary: "the colour mapping: data → emission η (a '# VoRANG Colormap 1.0' file, or a built-in colour table over [lo, hi])",
-    details: "Default without a file: constant red emission (1 0 0). Methods: CONSTANT, IDENTITY, SIMPLE_EMITTER, ABSORPTION_WEIGHTED, CONST_CELL. 'colormap preset viridis 0 1' is a SIMPLE_EMITTER table from lo to hi (clamped outside) on field 0 or the given field (number or name); 'vorang info FILE' prints the data ranges and a line to paste. Presets:",
+    details: "Default without a file: constant red emission (1 0 0). Methods: CONSTANT, IDENTITY, SIMPLE_EMITTER, ABSORPTION_WEIGHTED, CONST_CELL, LIT_EMITTER (lit by addlight). 'colormap preset viridis 0 1' is a SIMPLE_EMITTER table from lo to hi (clamped outside) on field 0 or the given field (number or name); 'vorang info FILE' prints the data ranges and a line to paste. Presets:",
     run: |s: &mut Session, c: &Call| {
         let (map, warnings) =
             if c.args().first().is_some_and(|a| a == "preset") && c.args().len() > 1 {
