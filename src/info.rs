@@ -148,14 +148,29 @@ fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {
             f.interpolator.name(),
             source_desc(data, f)
         );
-        if let Some(range) = vol.and_then(|v| v.field_range(i)) {
+        if let Some(parts) = vol.and_then(|v| crate::mapping::part_ranges(v, i)) {
+            // Complex: each part's range, and a first picture of the modulus.
+            let mut line = String::from("     range");
+            for (part, range) in crate::mapping::Part::ALL.iter().zip(&parts) {
+                let _ = write!(line, " {}", part.keyword());
+                for (a, b) in range {
+                    let _ = write!(line, " [{}, {}]", num(*a), num(*b));
+                }
+            }
+            let _ = writeln!(s, "{line}");
+            if let (Some(v), [(lo, hi)]) = (vol, parts[2].as_slice()) {
+                if let Some(line) = first_picture(v, &format!("abs({i})"), *lo, *hi) {
+                    let _ = writeln!(s, "     try   {line}");
+                }
+            }
+        } else if let Some(range) = vol.and_then(|v| v.field_range(i)) {
             let parts: Vec<String> = range
                 .iter()
                 .map(|(a, b)| format!("[{}, {}]", num(*a), num(*b)))
                 .collect();
             let _ = writeln!(s, "     range {}", parts.join(" "));
             if let (Some(v), [(lo, hi)]) = (vol, range.as_slice()) {
-                if let Some(line) = first_picture(v, i, *lo, *hi) {
+                if let Some(line) = first_picture(v, &i.to_string(), *lo, *hi) {
                     let _ = writeln!(s, "     try   {line}");
                 }
             }
@@ -163,12 +178,13 @@ fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {
     }
 }
 
-/// A ready-to-paste first picture of scalar field `i` over its range `[lo, hi]` (issue 16):
+/// A ready-to-paste first picture of scalar field `i` (a number, or a complex field's part
+/// such as `abs(2)`) over its range `[lo, hi]` (issue 16):
 /// the viridis preset over the range and an absorption ramp up to χ = 4 / the bounding box's
 /// diagonal (the densest part then lets through about e^-4 of the light across the volume),
 /// with the brightness factor χ_max, so that opaque parts show the preset's colours. `None`
 /// for a constant field.
-pub fn first_picture(vol: &Volume, i: usize, lo: f64, hi: f64) -> Option<String> {
+pub fn first_picture(vol: &Volume, i: &str, lo: f64, hi: f64) -> Option<String> {
     // Short numbers where they stay distinct, exact ones otherwise.
     let (a, b) = match (num(lo), num(hi)) {
         (a, b) if a.parse::<f64>().ok()? < b.parse::<f64>().ok()? => (a, b),

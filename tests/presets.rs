@@ -68,7 +68,7 @@ fn viridis_and_magma_follow_the_published_tables() {
 fn the_ramp_is_linear_from_zero_to_chi_max() {
     let map = ramp_alphamap(10.0, 20.0, 6.0, Some("2")).unwrap();
     assert_eq!(map.lines[0].name, "SIMPLE_ABSORBER");
-    assert_eq!(map.data_field, vorang::mapping::FieldRef::Number(2));
+    assert_eq!(map.data_field.field, vorang::mapping::FieldRef::Number(2));
     let Some(ScalarAlpha::Table(t)) = map.lines[0].method.scalar_form() else {
         panic!("not a table");
     };

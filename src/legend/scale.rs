@@ -1,6 +1,6 @@
 //! What the legend draws: the colormap as a function of one data value over a range.
 
-use crate::mapping::{ColorMap, ScalarColor, Table};
+use crate::mapping::{ColorMap, Part, ScalarColor, Table};
 use crate::volume::Volume;
 
 /// The colour transfer function over `[lo, hi]`, as the legend shows it.
@@ -44,12 +44,15 @@ impl ColorScale {
             ));
         };
         let data_range = || -> Result<(f64, f64), String> {
-            let field = line
-                .field
-                .as_ref()
-                .unwrap_or(&map.data_field)
-                .resolve(vol)?;
-            match vol.field_range(field).as_deref() {
+            let named = line.field.as_ref().unwrap_or(&map.data_field);
+            let field = named.resolve(vol)?;
+            // A complex field's part (`abs(0)`): the range of that part.
+            let range = match named.part {
+                Some(p) => crate::mapping::part_ranges(vol, field)
+                    .map(|r| r[Part::ALL.iter().position(|&q| q == p).unwrap_or(0)].clone()),
+                None => vol.field_range(field),
+            };
+            match range.as_deref() {
                 Some([(lo, hi)]) if lo.is_finite() && hi.is_finite() => Ok((*lo, *hi)),
                 Some(_) => Err(format!("field {field} is not a scalar field")),
                 None => Err(format!("the volume has no field {field}")),

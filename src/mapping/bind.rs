@@ -2,6 +2,7 @@
 //! evaluate per sample collected (each once, shared by both maps — the thesis's `field:global`
 //! optimisation), and η, χ evaluated from those values.
 
+use super::part::{Part, modulus_cuts};
 use super::{
     AlphaMap, AlphaShading, ColorMap, ColorShading, FieldNeed, MapFile, Point, Shape, Transfer1D,
 };
@@ -36,6 +37,16 @@ pub struct Lines {
     pub alpha: Option<usize>,
 }
 
+/// A complex field read through one part: the part, and where the field's (re, im) pairs sit
+/// in the buffer (after the slot that holds the part).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct PartOf {
+    part: Part,
+    raw: usize,
+    /// How the complex field itself varies along a segment in a cell.
+    under: Shape,
+}
+
 /// A colormap and an alphamap bound to a volume.
 #[derive(Debug, Clone)]
 pub struct Mapping {
@@ -44,6 +55,8 @@ pub struct Mapping {
     /// Field numbers evaluated per sample, in buffer order.
     fields: Vec<usize>,
     slots: Vec<Slot>,
+    /// For each evaluated field, the part of a complex field the maps read.
+    parts: Vec<Option<PartOf>>,
     /// How each evaluated field varies along a straight segment inside a cell.
     field_shapes: Vec<Shape>,
     width: usize,
@@ -103,24 +116,29 @@ struct Binder<'a> {
     vol: &'a Volume,
     fields: Vec<usize>,
     slots: Vec<Slot>,
+    parts: Vec<Option<Part>>,
     width: usize,
     gradient_fields: Vec<(usize, Slot)>,
     warnings: Vec<Warning>,
 }
 
 impl Binder<'_> {
-    fn slot(&mut self, field: usize) -> Slot {
-        if let Some(i) = self.fields.iter().position(|&f| f == field) {
+    /// The buffer slot of field `field` read through `part`, holding `len` numbers; a part
+    /// slot is followed by room for the field's (re, im) pairs.
+    fn slot(&mut self, field: usize, part: Option<Part>, len: usize) -> Slot {
+        let known =
+            (0..self.fields.len()).find(|&i| (self.fields[i], self.parts[i]) == (field, part));
+        if let Some(i) = known {
             return self.slots[i];
         }
-        let len = self.vol.data.fields[field].components();
         let s = Slot {
             offset: self.width,
             len,
         };
         self.fields.push(field);
         self.slots.push(s);
-        self.width += len;
+        self.parts.push(part);
+        self.width += if part.is_some() { 3 * len } else { len };
         s
     }
 
@@ -164,18 +182,20 @@ impl Binder<'_> {
                     .vol
                     .field(n)
                     .ok_or_else(|| self.no_field(file, line, "CategoryField", n))?;
-                if !f.is_scalar() {
+                let len = r
+                    .components(f, n)
+                    .map_err(|m| ParseError::new(file, line, format!("CategoryField: {m}")))?;
+                if len != 1 {
                     return Err(ParseError::new(
                         file,
                         line,
                         format!(
-                            "CategoryField {n} must be scalar, but field {n} has {} components ({})",
-                            f.components(),
+                            "CategoryField {n} must be scalar, but field {n} has {len} components ({})",
                             f.ty
                         ),
                     ));
                 }
-                Some(self.slot(n))
+                Some(self.slot(n, r.part, len))
             }
             None => None,
         };
@@ -198,10 +218,13 @@ impl Binder<'_> {
                     None => self.no_field(file, map.data_field_line, "DataField", n),
                 });
             };
+            let len = r
+                .components(f, n)
+                .map_err(|m| ParseError::new(file, l.line, format!("{}: {m}", l.name)))?;
             let ok = match need {
                 FieldNeed::Any => true,
-                FieldNeed::Scalar => f.is_scalar(),
-                FieldNeed::Components(k) => f.components() == k,
+                FieldNeed::Scalar => len == 1,
+                FieldNeed::Components(k) => len == k,
                 FieldNeed::ByteConstant => f.is_byte_constant(&self.vol.data.raw),
             };
             if !ok {
@@ -229,8 +252,21 @@ impl Binder<'_> {
             if let Some(def) = l.method.bytes() {
                 self.warn_missing_bytes(file, l.line, l.name, n, &def);
             }
-            lines.push(Some(self.slot(n)));
+            lines.push(Some(self.slot(n, r.part, len)));
             if l.method.lit() {
+                // The lighting gradient is the field's own (its real part for a complex field
+                // of some interpolators, undefined for others): a part is not shaded.
+                if let Some(p) = r.part {
+                    return Err(ParseError::new(
+                        file,
+                        l.line,
+                        format!(
+                            "{}: {r}: lighting needs the gradient of a real field, which the {} of a complex field does not provide",
+                            l.name,
+                            p.meaning()
+                        ),
+                    ));
+                }
                 gradients[k] = Some(self.gradient_slot(n));
             }
         }
@@ -302,6 +338,7 @@ impl Mapping {
             vol,
             fields: Vec::new(),
             slots: Vec::new(),
+            parts: Vec::new(),
             width: 0,
             gradient_fields: Vec::new(),
             warnings: Vec::new(),
@@ -311,7 +348,24 @@ impl Mapping {
         let field_shapes = b
             .fields
             .iter()
-            .map(|&f| field_shape(vol.data.fields[f].interpolator))
+            .zip(&b.parts)
+            .map(|(&f, part)| {
+                let shape = field_shape(vol.data.fields[f].interpolator);
+                part.map_or(shape, |p| p.shape(shape))
+            })
+            .collect();
+        let parts = b
+            .parts
+            .iter()
+            .zip(&b.slots)
+            .zip(&b.fields)
+            .map(|((p, s), &f)| {
+                p.map(|part| PartOf {
+                    part,
+                    raw: s.offset + s.len,
+                    under: field_shape(vol.data.fields[f].interpolator),
+                })
+            })
             .collect();
         Ok((
             Mapping {
@@ -319,6 +373,7 @@ impl Mapping {
                 alpha: alpha.clone(),
                 fields: b.fields,
                 slots: b.slots,
+                parts,
                 field_shapes,
                 width: b.width,
                 color_layout,
@@ -364,8 +419,17 @@ impl Mapping {
         buf: &mut [f64],
     ) {
         let on = vol.support();
-        for (&f, s) in self.fields.iter().zip(&self.slots) {
-            vol.data.fields[f].eval(&on, cell, lambda, pos, &mut buf[s.offset..s.offset + s.len]);
+        for ((&f, s), part) in self.fields.iter().zip(&self.slots).zip(&self.parts) {
+            let field = &vol.data.fields[f];
+            match part {
+                None => field.eval(&on, cell, lambda, pos, &mut buf[s.offset..s.offset + s.len]),
+                Some(p) => {
+                    let (head, pairs) = buf.split_at_mut(p.raw);
+                    let pairs = &mut pairs[..2 * s.len];
+                    field.eval(&on, cell, lambda, pos, pairs);
+                    p.part.apply(pairs, &mut head[s.offset..s.offset + s.len]);
+                }
+            }
         }
         for &(f, s) in &self.gradient_fields {
             let g = vol.data.fields[f].gradient_at(&on, cell, lambda, pos);
@@ -441,41 +505,53 @@ impl Mapping {
     /// values run linearly from `v0` to `v1`: table values of every line's field, category
     /// boundaries, method-specific kinks. Appended to `out` unsorted.
     pub fn cuts(&self, v0: &[f64], v1: &[f64], out: &mut Vec<f64>) {
-        let crossing = |a: f64, b: f64, x: f64, out: &mut Vec<f64>| {
-            if (a < x && x < b) || (b < x && x < a) {
-                out.push((x - a) / (b - a));
-            }
-        };
         for (layout, bounds) in [
             (&self.color_layout, interval_bounds(&self.color)),
             (&self.alpha_layout, interval_bounds(&self.alpha)),
         ] {
             if let Some(s) = layout.category {
-                for x in bounds {
-                    crossing(v0[s.offset], v1[s.offset], x, out);
-                }
+                self.crossings(s, v0, v1, &bounds, out);
             }
         }
         for (i, slot) in self.color_layout.lines.iter().enumerate() {
             if let Some(s) = slot.filter(|s| s.len == 1) {
-                for &x in self.color.lines[i].method.breakpoints() {
-                    crossing(v0[s.offset], v1[s.offset], x, out);
-                }
+                self.crossings(s, v0, v1, self.color.lines[i].method.breakpoints(), out);
             }
         }
         for (i, slot) in self.alpha_layout.lines.iter().enumerate() {
             if let Some(s) = slot {
                 let m = &self.alpha.lines[i].method;
                 if s.len == 1 {
-                    for &x in m.breakpoints() {
-                        crossing(v0[s.offset], v1[s.offset], x, out);
-                    }
+                    self.crossings(*s, v0, v1, m.breakpoints(), out);
                 }
                 m.cuts(
                     &v0[s.offset..s.offset + s.len],
                     &v1[s.offset..s.offset + s.len],
                     out,
                 );
+            }
+        }
+    }
+
+    /// Where the scalar in slot `s` crosses the `levels` on a segment from values `v0` to `v1`:
+    /// by linear interpolation, except for the modulus of a Linear complex field, whose
+    /// crossings are the roots of a quadratic ([`modulus_cuts`]).
+    fn crossings(&self, s: Slot, v0: &[f64], v1: &[f64], levels: &[f64], out: &mut Vec<f64>) {
+        let k = self.slots.iter().position(|x| *x == s).unwrap_or(0);
+        if let Some(PartOf {
+            part: Part::Abs,
+            raw,
+            under: Shape::Linear,
+        }) = self.parts[k]
+        {
+            let z = |v: &[f64]| [v[raw], v[raw + 1]];
+            modulus_cuts(z(v0), z(v1), levels, out);
+            return;
+        }
+        let (a, b) = (v0[s.offset], v1[s.offset]);
+        for &x in levels {
+            if (a < x && x < b) || (b < x && x < a) {
+                out.push((x - a) / (b - a));
             }
         }
     }
@@ -548,6 +624,9 @@ impl Mapping {
         let mut field = None;
         for slot in slots.into_iter().flatten() {
             let k = self.slots.iter().position(|x| *x == slot)?;
+            if self.parts[k].is_some() {
+                return None;
+            }
             let n = self.fields[k];
             if field.is_some_and(|f| f != n) {
                 return None;

@@ -16,6 +16,7 @@ mod bind;
 mod block;
 mod color;
 mod parse;
+mod part;
 mod preset;
 mod table;
 mod transfer;
@@ -26,6 +27,7 @@ use std::sync::Arc;
 pub use bind::{Lines, Mapping};
 pub use block::ParamBlock;
 pub use parse::{parse_map, read_map};
+pub use part::{COMPLEX_HELP, MapField, Part, part_ranges};
 pub use preset::{
     PRESETS, Preset, preset, preset_colormap, preset_names, preset_text, ramp_alphamap, ramp_text,
 };
@@ -290,7 +292,7 @@ pub struct MethodLine<T: ?Sized> {
     pub name: &'static str,
     pub method: Arc<T>,
     /// `field:n` or `field:"name"`; `None` = `field:global` (the map's DataField).
-    pub field: Option<FieldRef>,
+    pub field: Option<MapField>,
     /// `from:`/`to:`; `None` = matches every category value.
     pub interval: Option<Interval>,
     /// 1-based line in the map file.
@@ -302,11 +304,11 @@ pub struct MethodLine<T: ?Sized> {
 pub struct MapFile<T: ?Sized> {
     /// The file name as given (`<default>` for the built-in map).
     pub file: String,
-    pub data_field: FieldRef,
+    pub data_field: MapField,
     /// The line of `DataField` (1 if absent: the default applies to the whole file).
     pub data_field_line: usize,
     /// `CategoryField n` (or `"name"`) and its line.
-    pub category: Option<(FieldRef, usize)>,
+    pub category: Option<(MapField, usize)>,
     pub lines: Vec<MethodLine<T>>,
 }
 
@@ -359,7 +361,7 @@ impl AlphaMap {
 fn default_map<T: ?Sized>(method: Arc<T>, name: &'static str) -> MapFile<T> {
     MapFile {
         file: "<default>".into(),
-        data_field: FieldRef::Number(0),
+        data_field: MapField::from(0),
         data_field_line: 1,
         category: None,
         lines: vec![MethodLine {

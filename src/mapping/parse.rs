@@ -22,8 +22,8 @@ use std::path::Path;
 
 use super::block::{ParamBlock, Row};
 use super::{
-    ALPHA_METHODS, AlphaShading, COLOR_METHODS, ColorShading, FieldRef, Interval, MapFile, MapKind,
-    MethodInfo, MethodLine, names,
+    ALPHA_METHODS, AlphaShading, COLOR_METHODS, ColorShading, FieldRef, Interval, MapField,
+    MapFile, MapKind, MethodInfo, MethodLine, names,
 };
 use crate::error::{Error, ParseError, Warning};
 use crate::numbers::parse_f64;
@@ -58,7 +58,7 @@ pub fn read_map<T: Registry + ?Sized>(path: &Path) -> Result<(MapFile<T>, Vec<Wa
 struct PendingLine {
     info: &'static str,
     index: usize,
-    field: Option<FieldRef>,
+    field: Option<MapField>,
     interval: Option<Interval>,
     marker: Option<String>,
     line: usize,
@@ -105,8 +105,9 @@ fn split_words(content: &str) -> Result<Vec<&str>, ()> {
 }
 
 /// A field reference word: a whole number ≥ 0 or a name in double quotes (the name is taken
-/// exactly as written between the quotes).
-fn field_ref(word: &str) -> Option<FieldRef> {
+/// exactly as written between the quotes). A complex field's part (`abs(0)`) is
+/// [`MapField::parse`].
+pub(super) fn field_ref(word: &str) -> Option<FieldRef> {
     if let Some(inner) = word.strip_prefix('"').and_then(|w| w.strip_suffix('"')) {
         if inner.is_empty() || inner.contains('"') {
             return None;
@@ -129,8 +130,8 @@ pub fn parse_map<T: Registry + ?Sized>(
     let title = T::KIND.title();
     check_title::<T>(file, lines.next().map(|(_, l)| l))?;
 
-    let mut data_field: Option<(FieldRef, usize)> = None;
-    let mut category: Option<(FieldRef, usize)> = None;
+    let mut data_field: Option<(MapField, usize)> = None;
+    let mut category: Option<(MapField, usize)> = None;
     let mut pending: Vec<PendingLine> = Vec::new();
     let mut blocks: HashMap<String, ParamBlock> = HashMap::new();
     let mut current: Option<ParamBlock> = None;
@@ -213,12 +214,12 @@ pub fn parse_map<T: Registry + ?Sized>(
                         format!("{first} is given twice (first on line {l})"),
                     ));
                 }
-                let v = words.next().and_then(field_ref);
+                let v = words.next().and_then(MapField::parse);
                 let (Some(v), None) = (v, words.next()) else {
                     return Err(err(
                         n,
                         format!(
-                            "expected '{first} <field number>' (a whole number ≥ 0) or '{first} \"<field name>\"'"
+                            "expected '{first} <field number>' (a whole number ≥ 0) or '{first} \"<field name>\"', for a complex field inside re(…), im(…) or abs(…)"
                         ),
                     ));
                 };
@@ -306,7 +307,7 @@ pub fn parse_map<T: Registry + ?Sized>(
             line: p.line,
         });
     }
-    let (data_field, data_field_line) = data_field.unwrap_or((FieldRef::Number(0), 1));
+    let (data_field, data_field_line) = data_field.unwrap_or((MapField::from(0), 1));
     Ok((
         MapFile {
             file: file.to_string(),
@@ -358,7 +359,7 @@ fn method_options(
     name: &'static str,
 ) -> Result<PendingLine, ParseError> {
     let err = |msg: String| ParseError::new(file, n, msg);
-    let mut field: Option<Option<FieldRef>> = None;
+    let mut field: Option<Option<MapField>> = None;
     let mut from: Option<f64> = None;
     let mut to: Option<f64> = None;
     let mut marker: Option<String> = None;
@@ -400,9 +401,9 @@ fn method_options(
                 }
                 field = Some(match value {
                     "global" => None,
-                    v => Some(field_ref(v).ok_or_else(|| {
+                    v => Some(MapField::parse(v).ok_or_else(|| {
                         err(format!(
-                            "{name}: expected field:global or field:<number>, found field:{v} (a field name goes in double quotes: field:\"name\")"
+                            "{name}: expected field:global or field:<number>, found field:{v} (a field name goes in double quotes: field:\"name\"; a complex field's part is field:re(n), field:im(n) or field:abs(n))"
                         ))
                     })?),
                 });
@@ -458,9 +459,9 @@ mod tests {
             "# VoRANG Colormap 1.0\nDataField 0\nCategoryField 1\n\nSIMPLE_EMITTER field:global from:0 to:6 @1\nSIMPLE_EMITTER field:global from:7 to:9 @1\nCONST_CELL field:1 from:6 to:7 @2\n\n@1\n0 0 0      0\n0 0 0      5\n0.5 0.1 0  7\n1 0.3 0    10\n10 7 0     12.0\n15 12 0    12.2\n25 25 0    12.3537998\n\n@2\n0 1 5      6\n",
         )
         .unwrap();
-        assert_eq!(m.category, Some((FieldRef::Number(1), 3)));
+        assert_eq!(m.category, Some((1.into(), 3)));
         assert_eq!(m.lines.len(), 3);
-        assert_eq!(m.lines[2].field, Some(FieldRef::Number(1)));
+        assert_eq!(m.lines[2].field, Some(1.into()));
         assert_eq!(
             m.lines[0].interval,
             Some(Interval {
@@ -482,10 +483,11 @@ mod tests {
             "# VoRANG Colormap 1.0\nDataField \"temperature\"  # the solution\nCategoryField \"material # 2\"\nSIMPLE_EMITTER from:0 to:1 @1\nCONST_CELL field:\"heat flux\" from:1 @2\nCONST_CELL field: \"material\" from:2 @2\n@1\n0 0 0 0\n1 1 1 1\n@2\n1 0 0 1\n",
         )
         .unwrap();
-        assert_eq!(m.data_field, FieldRef::Name("temperature".into()));
-        assert_eq!(m.category, Some((FieldRef::Name("material # 2".into()), 3)));
-        assert_eq!(m.lines[1].field, Some(FieldRef::Name("heat flux".into())));
-        assert_eq!(m.lines[2].field, Some(FieldRef::Name("material".into())));
+        let name = |s: &str| MapField::from(FieldRef::Name(s.into()));
+        assert_eq!(m.data_field, name("temperature"));
+        assert_eq!(m.category, Some((name("material # 2"), 3)));
+        assert_eq!(m.lines[1].field, Some(name("heat flux")));
+        assert_eq!(m.lines[2].field, Some(name("material")));
         for bad in [
             "DataField temperature",
             "DataField \"temperature",
@@ -502,7 +504,7 @@ mod tests {
     #[test]
     fn options_may_have_a_space_after_the_colon() {
         let m = color("# VoRANG Colormap 1.0\nCategoryField 2\nCONSTANT field: 3 from: -1 to: 2.5 @a\n@a\n1 2 3\n").unwrap();
-        assert_eq!(m.lines[0].field, Some(FieldRef::Number(3)));
+        assert_eq!(m.lines[0].field, Some(3.into()));
         assert_eq!(
             m.lines[0].interval,
             Some(Interval {
@@ -510,6 +512,31 @@ mod tests {
                 to: Some(2.5)
             })
         );
+    }
+
+    #[test]
+    fn complex_parts_are_written_where_the_field_is_named() {
+        use crate::mapping::Part;
+        let m = color("# VoRANG Colormap 1.0\nDataField abs(0)\nCategoryField re(\"z\")\nCONSTANT from:0 @a\nSIMPLE_EMITTER field: im(2) to:0 @b\n@a\n1 2 3\n@b\n0 0 0 0\n").unwrap();
+        assert_eq!(m.data_field.part, Some(Part::Abs));
+        assert_eq!(m.data_field.field, FieldRef::Number(0));
+        let c = m.category.unwrap().0;
+        assert_eq!(
+            (c.field, c.part),
+            (FieldRef::Name("z".into()), Some(Part::Re))
+        );
+        assert_eq!(m.lines[1].field.as_ref().unwrap().part, Some(Part::Im));
+        for bad in ["DataField mod(0)", "DataField abs(x)", "DataField abs 0"] {
+            let e = color(&format!(
+                "# VoRANG Colormap 1.0\n{bad}\nCONSTANT @1\n@1\n1 0 0\n"
+            ))
+            .unwrap_err();
+            assert_eq!(e.line, 2, "{bad}: {e}");
+            assert!(e.message.contains("abs(…)"), "{e}");
+        }
+        let e =
+            color("# VoRANG Colormap 1.0\nCONSTANT field:modulus(1) @1\n@1\n1 0 0\n").unwrap_err();
+        assert!(e.message.contains("field:abs(n)"), "{e}");
     }
 
     #[test]

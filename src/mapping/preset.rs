@@ -105,11 +105,17 @@ fn knot_values(lo: f64, hi: f64, n: usize) -> Result<Vec<f64>, String> {
     Ok(values)
 }
 
-/// `DataField` line for an optional field (a number or a name).
+/// `DataField` line for an optional field (a number, a name, or a complex field's part).
 fn data_field_line(field: Option<&str>) -> Result<String, String> {
     match field {
         None => Ok(String::new()),
         Some(f) if f.parse::<usize>().is_ok() => Ok(format!("DataField {f}\n")),
+        // A complex field's part, as a map file writes it: `abs(0)`, `re("E")`.
+        Some(f)
+            if !f.contains('\n') && super::MapField::parse(f).is_some_and(|m| m.part.is_some()) =>
+        {
+            Ok(format!("DataField {f}\n"))
+        }
         Some(f) if !f.is_empty() && !f.contains('"') && !f.contains('\n') => {
             Ok(format!("DataField \"{f}\"\n"))
         }

@@ -72,6 +72,8 @@ pub fn markdown() -> String {
         ));
     }
     line("");
+    line(crate::mapping::COMPLEX_HELP);
+    line("");
     line("## Opacity shading methods (alphamap files)");
     line("");
     line("| method | parameter block | what it does |");

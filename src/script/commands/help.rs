@@ -44,6 +44,9 @@ fn describe(name: &str) -> Result<String, String> {
             s.push_str(&format!("\n    {}: {}", p.name, p.summary));
         }
     }
+    if name == "colormap" || name == "alphamap" {
+        s.push_str(&format!("\n  {}", crate::mapping::COMPLEX_HELP));
+    }
     if name == "method" {
         s.push_str("\n  methods:");
         for m in crate::render::METHODS {
