@@ -14,6 +14,12 @@ checked by readers VoRANG had no part in. Run it by hand (not in CI) after chang
     /tmp/venv/bin/python tests/data/images/make_expected.py
     cargo test --test image_formats
 
+It also writes `foreign/`: the small picture written by Netpbm and ImageMagick in the formats
+VoRANG reads itself, in their own variants (colour maps, run lengths, X10 bitmaps …), which the
+Rust test reads with VoRANG's readers and compares with `foreign/reference.ppm` (colour) or
+`foreign/reference_bw.ppm` (the 1-bit picture). Both references are decodings from `expected/`
+that the Rust test proves equal to the intended pixels.
+
 Every reader is asked for 8-bit RGB; Pillow only turns their output (PNM) into RGB bytes, so a
 decoding is the named reader's alone. A reader that fails stops the script with its message.
 """
@@ -94,6 +100,44 @@ def versions() -> str:
     return f"Pillow {features.version('PIL') or Image.__version__}; {im}; Ghostscript {gs}; {netpbm}"
 
 
+# Files written by other programs: (name, command) with {ref} / {bw} for the reference PPMs.
+FOREIGN = [
+    ("netpbm_rle.sgi", "pnmtosgi -rle {ref}"),
+    ("netpbm_verbatim.sgi", "pnmtosgi -verbatim {ref}"),
+    ("netpbm_pseudocolor.xwd", "pnmtoxwd {ref}"),
+    ("netpbm_colormap.ras", "pnmtorast {ref}"),
+    ("netpbm_rle.ras", "pnmtorast -rle {ref}"),
+    ("netpbm_24bit.pcx", "ppmtopcx -24bit {ref}"),
+    ("netpbm_palette.pcx", "ppmtopcx {ref}"),
+    ("netpbm_cmap.iff", "ppmtoilbm {ref}"),
+    ("netpbm_24bit.iff", "ppmtoilbm -24force {ref}"),
+    ("netpbm_x11.xbm", "pbmtoxbm {bwpbm}"),
+    ("netpbm_x10.xbm", "pbmtoxbm -x10 {bwpbm}"),
+    ("imagemagick.xwd", "convert {ref} xwd:-"),
+    ("imagemagick.pcx", "convert {ref} pcx:-"),
+    ("imagemagick.ras", "convert {ref} sun:-"),
+    ("imagemagick.pict", "convert {ref} pict:-"),
+    ("imagemagick.sgi", "convert {ref} sgi:-"),
+    ("imagemagick.x", "convert {ref} avs:-"),
+    ("imagemagick.xbm", "convert {bw} xbm:-"),
+]
+
+
+def foreign():
+    out = HERE / "foreign"
+    out.mkdir(exist_ok=True)
+    ref, bw = out / "reference.ppm", out / "reference_bw.ppm"
+    ref.write_bytes((HERE / "expected/small.rgb.netpbm.ppm").read_bytes())
+    bw.write_bytes((HERE / "expected/small.xbm.netpbm.ppm").read_bytes())
+    bwpbm = out / "reference_bw.pbm"
+    bwpbm.write_bytes(run(["pgmtopbm", "-threshold"], run(["ppmtopgm", str(bw)])))
+    for name, cmd in FOREIGN:
+        args = cmd.format(ref=ref, bw=bw, bwpbm=bwpbm).split()
+        (out / name).write_bytes(run(args))
+        print(f"foreign/{name}")
+    bwpbm.unlink()
+
+
 def main():
     out = HERE / "expected"
     out.mkdir(exist_ok=True)
@@ -107,6 +151,7 @@ def main():
                 target.write_bytes(b"P6\n%d %d\n255\n" % (w, h) + im.tobytes())
                 print(f"{target.relative_to(HERE)}: {w}x{h}")
     (out / "READERS.txt").write_text(versions() + "\n")
+    foreign()
 
 
 if __name__ == "__main__":
