@@ -332,6 +332,12 @@ pub const FORMATS: &[FormatInfo] = &[
         write: |fb, w| own(codec::avs::write(fb, w)),
         read: Read::Own(codec::avs::read),
     },
+    FormatInfo {
+        extensions: &["viff", "xv"],
+        summary: "Khoros VIFF, 8-bit RGB (three byte bands)",
+        write: |fb, w| own(codec::viff::write(fb, w)),
+        read: Read::Own(codec::viff::read),
+    },
 ];
 
 pub(super) const POSTSCRIPT: &str = "reading PostScript needs an interpreter: convert it first, e.g. `gs -sDEVICE=png16m -o bg.png FILE`";

@@ -57,6 +57,7 @@ CHECKED = {
     "pict": ["imagemagick"],
     "iff": ["netpbm"],
     "x": ["imagemagick"],
+    "viff": ["imagemagick"],
 }
 
 
@@ -120,6 +121,7 @@ FOREIGN = [
     ("imagemagick.sgi", "convert {ref} sgi:-"),
     ("imagemagick.x", "convert {ref} avs:-"),
     ("imagemagick.xbm", "convert {bw} xbm:-"),
+    ("imagemagick.viff", "convert {ref} viff:-"),
 ]
 
 
