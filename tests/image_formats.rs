@@ -30,6 +30,7 @@ const CHECKED: &[(&str, &[&str])] = &[
     ("iff", &["netpbm"]),
     ("x", &["imagemagick"]),
     ("viff", &["imagemagick"]),
+    ("rle", &["imagemagick", "netpbm"]),
 ];
 
 /// The 1-bit formats: white where the luminance is at least 0.5.
@@ -322,7 +323,8 @@ fn postscript_backgrounds_are_refused_with_the_way_out() {
 
 /// Row padding and run limits at many widths: every hand-written format with a reader reads
 /// back what it wrote. (The same sizes of the colour formats were checked once against the
-/// independent readers of make_expected.py: 1044 decodings, all exact.)
+/// independent readers of make_expected.py: 1158 of 1159 decodings exact; ImageMagick refuses
+/// the 1 × 1 RLE file, which Netpbm reads.)
 #[test]
 fn every_width_round_trips() {
     let dir = tempfile::tempdir().unwrap();
@@ -339,7 +341,7 @@ fn every_width_round_trips() {
                 ];
             }
             for ext in [
-                "rgb", "xbm", "xwd", "ras", "pcx", "pict", "iff", "x", "pfm", "viff",
+                "rgb", "xbm", "xwd", "ras", "pcx", "pict", "iff", "x", "pfm", "viff", "rle",
             ] {
                 let path = dir.path().join(format!("{w}x{h}.{ext}"));
                 write_image(&fb, &path).unwrap();
@@ -417,5 +419,5 @@ fn files_written_by_other_programs_are_read() {
         }
         n += 1;
     }
-    assert_eq!(n, 19);
+    assert_eq!(n, 20);
 }

@@ -68,7 +68,7 @@ pub struct BackgroundImage {
 impl BackgroundImage {
     /// Reads an image in any format VoRANG writes that has a reader (see [`super::FORMATS`]),
     /// or any other the `image` crate reads. Formats with a signature are recognised by their
-    /// content; the others (PCX, PICT, XWD, XBM, AVS, Alias PIX, TGA) by the extension.
+    /// content; the others (PCX, PICT, XWD, XBM, AVS, VIFF, TGA) by the extension.
     pub fn load(path: &Path) -> Result<BackgroundImage, Error> {
         let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
         let fail = |what: &str, e: String| {
@@ -91,6 +91,8 @@ impl BackgroundImage {
             Some(("Sun raster", codec::sun_raster::read))
         } else if codec::ilbm::sniff(&bytes) {
             Some(("ILBM", codec::ilbm::read))
+        } else if codec::utah_rle::sniff(&bytes) {
+            Some(("Utah RLE", codec::utah_rle::read))
         } else if bytes.starts_with(b"PF") || bytes.starts_with(b"Pf") {
             Some(("PFM", codec::pfm::decode))
         } else if bytes.starts_with(b"%!") {

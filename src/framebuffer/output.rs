@@ -338,6 +338,12 @@ pub const FORMATS: &[FormatInfo] = &[
         write: |fb, w| own(codec::viff::write(fb, w)),
         read: Read::Own(codec::viff::read),
     },
+    FormatInfo {
+        extensions: &["rle", "rlc"],
+        summary: "Utah Raster Toolkit RLE, 8-bit RGB",
+        write: |fb, w| own(codec::utah_rle::write(fb, w)),
+        read: Read::Own(codec::utah_rle::read),
+    },
 ];
 
 pub(super) const POSTSCRIPT: &str = "reading PostScript needs an interpreter: convert it first, e.g. `gs -sDEVICE=png16m -o bg.png FILE`";

@@ -17,6 +17,7 @@ pub mod pict;
 pub mod postscript;
 pub mod sgi;
 pub mod sun_raster;
+pub mod utah_rle;
 pub mod viff;
 pub mod xbm;
 pub mod xwd;

@@ -25,7 +25,7 @@ pub const OUTPUT: CommandInfo = CommandInfo {
     name: "output",
     usage: "base.format",
     summary: "base name and format of the images: 'output img.png' writes img.0001.png, img.0002.png …",
-    details: "The format follows the extension: tiff/tif (default: vorang.tiff), png, bmp, tga, ppm/pnm, pgm, pam, jpg/jpeg, gif, ico, qoi, webp, hdr, exr, pfm (float RGB), rgb/sgi/rgba (SGI), and from the thesis's list pbm and xbm (1-bit: white where the luminance is at least 0.5), xwd, ras, pcx, eps, ps, pict, iff (Amiga ILBM), x (AVS) and viff (Khoros) — docs/formats.md lists them all. 8-bit formats clip to [0, 1]; exr, pfm and hdr keep the floats. Missing folders are created. A different base name restarts the numbers at 1 (use set_nr after output to start elsewhere); the same base again, also in another format, keeps counting.",
+    details: "The format follows the extension: tiff/tif (default: vorang.tiff), png, bmp, tga, ppm/pnm, pgm, pam, jpg/jpeg, gif, ico, qoi, webp, hdr, exr, pfm (float RGB), rgb/sgi/rgba (SGI), and from the thesis's list pbm and xbm (1-bit: white where the luminance is at least 0.5), xwd, ras, pcx, eps, ps, pict, iff (Amiga ILBM), x (AVS), viff (Khoros) and rle (Utah RLE, the thesis's rlc) — docs/formats.md lists them all. 8-bit formats clip to [0, 1]; exr, pfm and hdr keep the floats. Missing folders are created. A different base name restarts the numbers at 1 (use set_nr after output to start elsewhere); the same base again, also in another format, keeps counting.",
     run: |s: &mut Session, c: &Call| {
         c.expect(1..=1)?;
         let path = c.path(0);

@@ -43,6 +43,7 @@ NETPBM = {
     "ras": ["rasttopnm"],
     "pcx": ["pcxtoppm"],
     "iff": ["ilbmtoppm"],
+    "rle": ["rletopnm"],
 }
 
 CHECKED = {
@@ -58,6 +59,7 @@ CHECKED = {
     "iff": ["netpbm"],
     "x": ["imagemagick"],
     "viff": ["imagemagick"],
+    "rle": ["imagemagick", "netpbm"],
 }
 
 
@@ -122,6 +124,7 @@ FOREIGN = [
     ("imagemagick.x", "convert {ref} avs:-"),
     ("imagemagick.xbm", "convert {bw} xbm:-"),
     ("imagemagick.viff", "convert {ref} viff:-"),
+    ("netpbm.rle", "pnmtorle {ref}"),
 ]
 
 
