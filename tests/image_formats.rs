@@ -421,3 +421,64 @@ fn files_written_by_other_programs_are_read() {
     }
     assert_eq!(n, 20);
 }
+
+/// Through the program: `background FILE` with the sample in each hand-written format renders
+/// the same picture as with the same sample written as PNG.
+#[test]
+fn the_background_command_takes_every_readable_format() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("small.png");
+    write_image(&samples()[0].1, &png).unwrap();
+    let ex = Path::new(env!("CARGO_MANIFEST_DIR")).join("examples/selfMade");
+    let mut script = format!(
+        "imagesize 21 15\nvolume {{{}}}\ncolormap {{{}}}\nalphamap {{{}}}\nlinedraw off\n\
+         ortho_camera -1.2 1.2 -0.6 0.6 -10 10\nmethod exact linear 0 1\n",
+        ex.join("selfMade.hmesh").display(),
+        ex.join("glow.cmap").display(),
+        ex.join("ramp.amap").display(),
+    );
+    let readable: Vec<&str> = CHECKED
+        .iter()
+        .map(|c| c.0)
+        .filter(|ext| !matches!(*ext, "eps" | "ps"))
+        .collect();
+    for (name, file) in std::iter::once(("png", png.clone())).chain(
+        readable
+            .iter()
+            .map(|e| (*e, data().join(format!("small.{e}")))),
+    ) {
+        let out = dir.path().join(format!("with_{name}.pfm"));
+        script += &format!(
+            "background {{{}}}\noutput {{{}}}\nrender_btf\n",
+            file.display(),
+            out.display()
+        );
+    }
+    // The background shows through: with a uniform one the picture differs.
+    script += &format!(
+        "background clear\noutput {{{}}}\nrender_btf\n",
+        dir.path().join("with_clear.pfm").display()
+    );
+    let run = std::process::Command::new(env!("CARGO_BIN_EXE_vorang"))
+        .arg("-e")
+        .arg(&script)
+        .output()
+        .unwrap();
+    assert!(
+        run.status.success(),
+        "{}",
+        String::from_utf8_lossy(&run.stderr)
+    );
+    let read = |name: &str| {
+        let path = dir.path().join(format!("with_{name}.0001.pfm"));
+        vorang::framebuffer::read_pfm(&std::fs::read(&path).unwrap()).unwrap()
+    };
+    let reference = read("png");
+    assert_ne!(read("clear"), reference);
+    for ext in readable {
+        if ONE_BIT.contains(&ext) {
+            continue; // black and white: a different background
+        }
+        assert_eq!(read(ext), reference, "background small.{ext}");
+    }
+}

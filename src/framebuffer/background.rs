@@ -106,7 +106,8 @@ impl BackgroundImage {
         };
         let decoded = match sniffed {
             Some((name, read)) => read(&bytes).map_err(|e| fail(name, e))?,
-            None => decode_with_image_crate(&bytes, path).map_err(|e| fail("image", e))?,
+            None => decode_with_image_crate(&bytes, path)
+                .map_err(|e| fail(if ext.is_empty() { "no extension" } else { &ext }, e))?,
         };
         Ok(BackgroundImage {
             source: path.display().to_string(),
