@@ -4,7 +4,40 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use super::codec::{self, Decoded};
+use super::output::POSTSCRIPT;
+use super::{FORMATS, Read};
 use crate::error::Error;
+
+/// The `image` crate's formats: by content, else by extension (TGA has no signature).
+fn decode_with_image_crate(bytes: &[u8], path: &Path) -> Result<Decoded, String> {
+    let mut reader = image::ImageReader::new(std::io::Cursor::new(bytes))
+        .with_guessed_format()
+        .map_err(|e| e.to_string())?;
+    if reader.format().is_none() {
+        match image::ImageFormat::from_path(path) {
+            Ok(f) => reader.set_format(f),
+            Err(_) => {
+                return Err(format!(
+                    "the content is no known image format, and neither is the extension; formats: {}",
+                    FORMATS
+                        .iter()
+                        .filter(|f| !matches!(f.read, Read::No(_)))
+                        .map(|f| f.extensions[0])
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ));
+            }
+        }
+    }
+    let img = reader.decode().map_err(|e| e.to_string())?;
+    let rgb = img.to_rgb32f();
+    Ok(Decoded {
+        width: rgb.width() as usize,
+        height: rgb.height() as usize,
+        rgb: rgb.pixels().map(|p| p.0).collect(),
+    })
+}
 
 /// What lies behind the volume: the intensity `I0` of the optical model.
 #[derive(Debug, Clone, PartialEq)]
@@ -33,25 +66,54 @@ pub struct BackgroundImage {
 }
 
 impl BackgroundImage {
+    /// Reads an image in any format VoRANG writes that has a reader (see [`super::FORMATS`]),
+    /// or any other the `image` crate reads. Formats with a signature are recognised by their
+    /// content; the others (PCX, PICT, XWD, XBM, AVS, VIFF, TGA) by the extension.
     pub fn load(path: &Path) -> Result<BackgroundImage, Error> {
-        let img = image::ImageReader::open(path)
-            .map_err(|e| Error::io(path, e))?
-            .with_guessed_format()
-            .map_err(|e| Error::io(path, e))?
-            .decode()
-            .map_err(|e| {
-                Error::Invalid(format!(
-                    "{}: cannot read the background image: {e}",
-                    path.display()
-                ))
-            })?;
-        let rgb = img.to_rgb32f();
-        let (width, height) = (rgb.width() as usize, rgb.height() as usize);
+        let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+        let fail = |what: &str, e: String| {
+            Error::Invalid(format!(
+                "{}: cannot read the background image ({what}): {e}",
+                path.display()
+            ))
+        };
+        let ext = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase)
+            .unwrap_or_default();
+        let by_ext = FORMATS
+            .iter()
+            .find(|f| f.extensions.contains(&ext.as_str()));
+        let sniffed: Option<(&str, codec::Reader)> = if codec::sgi::sniff(&bytes) {
+            Some(("SGI", codec::sgi::read))
+        } else if codec::sun_raster::sniff(&bytes) {
+            Some(("Sun raster", codec::sun_raster::read))
+        } else if codec::ilbm::sniff(&bytes) {
+            Some(("ILBM", codec::ilbm::read))
+        } else if codec::utah_rle::sniff(&bytes) {
+            Some(("Utah RLE", codec::utah_rle::read))
+        } else if bytes.starts_with(b"PF") || bytes.starts_with(b"Pf") {
+            Some(("PFM", codec::pfm::decode))
+        } else if bytes.starts_with(b"%!") {
+            return Err(fail("PostScript", POSTSCRIPT.to_string()));
+        } else {
+            match by_ext.map(|f| (f.extensions[0], f.read)) {
+                Some((name, Read::Own(r))) => Some((name, r)),
+                Some((name, Read::No(why))) => return Err(fail(name, why.to_string())),
+                _ => None,
+            }
+        };
+        let decoded = match sniffed {
+            Some((name, read)) => read(&bytes).map_err(|e| fail(name, e))?,
+            None => decode_with_image_crate(&bytes, path)
+                .map_err(|e| fail(if ext.is_empty() { "no extension" } else { &ext }, e))?,
+        };
         Ok(BackgroundImage {
             source: path.display().to_string(),
-            width,
-            height,
-            rgb: rgb.pixels().map(|p| p.0).collect(),
+            width: decoded.width,
+            height: decoded.height,
+            rgb: decoded.rgb,
         })
     }
 

@@ -3,13 +3,12 @@
 //! each render) and are clipped only when written to an 8-bit format.
 
 mod background;
+pub mod codec;
 mod output;
-mod pfm;
-mod sgi;
 
 pub use background::{Background, BackgroundImage};
-pub use output::{FORMATS, FormatInfo, format_for, numbered, write_image};
-pub use pfm::read as read_pfm;
+pub use codec::pfm::read as read_pfm;
+pub use output::{FORMATS, FormatInfo, Read, format_for, numbered, write_image};
 
 /// An image of `width × height` RGBA pixels, row-major from the top-left pixel. Alpha is
 /// 1 − the ray's total transparency.
@@ -120,6 +119,13 @@ pub fn output_pixel(p: &[f32; 4], transparent: bool) -> [f32; 4] {
     } else {
         [0.0; 4]
     }
+}
+
+/// The luminance of pixel `p` (Rec. 601 weights, channels clipped to [0, 1]): what the grey
+/// and 1-bit formats store.
+#[inline]
+pub fn luma(p: &[f32; 4]) -> f32 {
+    0.299 * p[0].clamp(0.0, 1.0) + 0.587 * p[1].clamp(0.0, 1.0) + 0.114 * p[2].clamp(0.0, 1.0)
 }
 
 /// Clip to [0, 1] and round to 0…255.

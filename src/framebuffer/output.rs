@@ -12,6 +12,7 @@ use image::codecs::pnm::{PnmEncoder, PnmSubtype, SampleEncoding};
 use image::{ExtendedColorType, ImageEncoder};
 
 use super::Framebuffer;
+use super::codec::{self, Reader};
 use crate::atomic::write_atomically;
 use crate::error::Error;
 
@@ -24,6 +25,24 @@ pub struct FormatInfo {
     pub extensions: &'static [&'static str],
     pub summary: &'static str,
     pub write: Writer,
+    /// How `background` reads it.
+    pub read: Read,
+}
+
+/// How a format is read back (for `background`).
+#[derive(Clone, Copy)]
+pub enum Read {
+    /// By the `image` crate.
+    Image,
+    /// By VoRANG's own reader.
+    Own(Reader),
+    /// Not at all, for this reason.
+    No(&'static str),
+}
+
+/// A hand-written codec's result as the table's.
+fn own(r: std::io::Result<()>) -> Result<(), String> {
+    r.map_err(|e| e.to_string())
 }
 
 fn img<E: ImageEncoder>(
@@ -71,6 +90,7 @@ pub const FORMATS: &[FormatInfo] = &[
                 ExtendedColorType::Rgba8,
             )
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["png"],
@@ -83,6 +103,7 @@ pub const FORMATS: &[FormatInfo] = &[
                 ExtendedColorType::Rgba8,
             )
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["bmp"],
@@ -95,6 +116,7 @@ pub const FORMATS: &[FormatInfo] = &[
                 ExtendedColorType::Rgb8,
             )
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["tga"],
@@ -107,6 +129,7 @@ pub const FORMATS: &[FormatInfo] = &[
                 ExtendedColorType::Rgba8,
             )
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["ppm", "pnm"],
@@ -115,22 +138,18 @@ pub const FORMATS: &[FormatInfo] = &[
             let e = PnmEncoder::new(w).with_subtype(PnmSubtype::Pixmap(SampleEncoding::Binary));
             img(e, fb, &fb.to_rgb8()?, ExtendedColorType::Rgb8)
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["pgm"],
         summary: "portable graymap (binary P5), 8-bit luminance (Rec. 601 weights)",
         write: |fb, w| {
             let mut luma = fb.bytes(1)?;
-            luma.extend(fb.pixels.iter().map(|p| {
-                super::to_u8(
-                    0.299 * p[0].clamp(0.0, 1.0)
-                        + 0.587 * p[1].clamp(0.0, 1.0)
-                        + 0.114 * p[2].clamp(0.0, 1.0),
-                )
-            }));
+            luma.extend(fb.pixels.iter().map(|p| super::to_u8(super::luma(p))));
             let e = PnmEncoder::new(w).with_subtype(PnmSubtype::Graymap(SampleEncoding::Binary));
             img(e, fb, &luma, ExtendedColorType::L8)
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["pam"],
@@ -139,6 +158,7 @@ pub const FORMATS: &[FormatInfo] = &[
             let e = PnmEncoder::new(w).with_subtype(PnmSubtype::ArbitraryMap);
             img(e, fb, &fb.to_rgba8()?, ExtendedColorType::Rgba8)
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["jpg", "jpeg"],
@@ -151,6 +171,7 @@ pub const FORMATS: &[FormatInfo] = &[
                 ExtendedColorType::Rgb8,
             )
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["gif"],
@@ -172,6 +193,7 @@ pub const FORMATS: &[FormatInfo] = &[
                 ExtendedColorType::Rgba8,
             )
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["ico"],
@@ -184,6 +206,7 @@ pub const FORMATS: &[FormatInfo] = &[
                 ExtendedColorType::Rgba8,
             )
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["qoi"],
@@ -196,6 +219,7 @@ pub const FORMATS: &[FormatInfo] = &[
                 ExtendedColorType::Rgba8,
             )
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["webp"],
@@ -208,6 +232,7 @@ pub const FORMATS: &[FormatInfo] = &[
                 ExtendedColorType::Rgba8,
             )
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["hdr"],
@@ -220,6 +245,7 @@ pub const FORMATS: &[FormatInfo] = &[
                 ExtendedColorType::Rgb32F,
             )
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["exr"],
@@ -232,18 +258,95 @@ pub const FORMATS: &[FormatInfo] = &[
                 ExtendedColorType::Rgba32F,
             )
         },
+        read: Read::Image,
     },
     FormatInfo {
         extensions: &["pfm"],
         summary: "portable float map: RGB float32, little-endian, rows bottom to top",
-        write: |fb, w| super::pfm::write(fb, w).map_err(|e| e.to_string()),
+        write: |fb, w| own(codec::pfm::write(fb, w)),
+        read: Read::Own(codec::pfm::decode),
     },
     FormatInfo {
         extensions: &["rgb", "sgi", "rgba"],
         summary: "SGI image (the thesis's example format): 8-bit RGB, RGBA for .rgba",
-        write: |fb, w| super::sgi::write(fb, w, false).map_err(|e| e.to_string()),
+        write: |fb, w| own(codec::sgi::write(fb, w, false)),
+        read: Read::Own(codec::sgi::read),
+    },
+    FormatInfo {
+        extensions: &["pbm"],
+        summary: "portable bitmap (binary P4), 1-bit: white where the luminance is at least 0.5, black elsewhere",
+        write: |fb, w| own(codec::pbm::write(fb, w)),
+        read: Read::Image,
+    },
+    FormatInfo {
+        extensions: &["xbm"],
+        summary: "X11 bitmap, 1-bit: white where the luminance is at least 0.5, black elsewhere",
+        write: |fb, w| own(codec::xbm::write(fb, w)),
+        read: Read::Own(codec::xbm::read),
+    },
+    FormatInfo {
+        extensions: &["xwd"],
+        summary: "X window dump, 8-bit RGB (24-bit TrueColor)",
+        write: |fb, w| own(codec::xwd::write(fb, w)),
+        read: Read::Own(codec::xwd::read),
+    },
+    FormatInfo {
+        extensions: &["ras", "sun"],
+        summary: "Sun rasterfile, 8-bit RGB",
+        write: |fb, w| own(codec::sun_raster::write(fb, w)),
+        read: Read::Own(codec::sun_raster::read),
+    },
+    FormatInfo {
+        extensions: &["pcx"],
+        summary: "ZSoft PC Paintbrush, 8-bit RGB (three planes, run-length coded)",
+        write: |fb, w| own(codec::pcx::write(fb, w)),
+        read: Read::Own(codec::pcx::read),
+    },
+    FormatInfo {
+        extensions: &["eps", "epsf"],
+        summary: "Encapsulated PostScript, 8-bit RGB image, one pixel per point",
+        write: |fb, w| own(codec::postscript::write(fb, w, true)),
+        read: Read::No(POSTSCRIPT),
+    },
+    FormatInfo {
+        extensions: &["ps"],
+        summary: "PostScript, one page the size of the image, 8-bit RGB, one pixel per point",
+        write: |fb, w| own(codec::postscript::write(fb, w, false)),
+        read: Read::No(POSTSCRIPT),
+    },
+    FormatInfo {
+        extensions: &["pict", "pct"],
+        summary: "Apple QuickDraw PICT version 2, 8-bit RGB (at most 4095 pixels wide)",
+        write: |fb, w| own(codec::pict::write(fb, w)),
+        read: Read::Own(codec::pict::read),
+    },
+    FormatInfo {
+        extensions: &["iff", "ilbm"],
+        summary: "Amiga IFF ILBM, 24-bit (8-bit RGB)",
+        write: |fb, w| own(codec::ilbm::write(fb, w)),
+        read: Read::Own(codec::ilbm::read),
+    },
+    FormatInfo {
+        extensions: &["x", "avs"],
+        summary: "AVS X image, 8-bit ARGB",
+        write: |fb, w| own(codec::avs::write(fb, w)),
+        read: Read::Own(codec::avs::read),
+    },
+    FormatInfo {
+        extensions: &["viff", "xv"],
+        summary: "Khoros VIFF, 8-bit RGB (three byte bands)",
+        write: |fb, w| own(codec::viff::write(fb, w)),
+        read: Read::Own(codec::viff::read),
+    },
+    FormatInfo {
+        extensions: &["rle", "rlc"],
+        summary: "Utah Raster Toolkit RLE, 8-bit RGB",
+        write: |fb, w| own(codec::utah_rle::write(fb, w)),
+        read: Read::Own(codec::utah_rle::read),
     },
 ];
+
+pub(super) const POSTSCRIPT: &str = "reading PostScript needs an interpreter: convert it first, e.g. `gs -sDEVICE=png16m -o bg.png FILE`";
 
 /// The format for a file name, from its extension (case-insensitive).
 pub fn format_for(path: &Path) -> Result<&'static FormatInfo, Error> {
@@ -295,7 +398,7 @@ pub fn write_image(fb: &Framebuffer, path: &Path) -> Result<(), Error> {
     let mut failure = None;
     let result = write_atomically(path, |w| {
         let r = if is_sgi_rgba {
-            super::sgi::write(fb, w, true).map_err(|e| e.to_string())
+            codec::sgi::write(fb, w, true).map_err(|e| e.to_string())
         } else {
             (format.write)(fb, w)
         };

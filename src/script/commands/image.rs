@@ -25,7 +25,7 @@ pub const OUTPUT: CommandInfo = CommandInfo {
     name: "output",
     usage: "base.format",
     summary: "base name and format of the images: 'output img.png' writes img.0001.png, img.0002.png …",
-    details: "The format follows the extension: tiff/tif (default: vorang.tiff), png, bmp, tga, ppm/pnm, pgm, pam, jpg/jpeg, gif, ico, qoi, webp, hdr, exr, pfm (float RGB), rgb/sgi/rgba (SGI). 8-bit formats clip to [0, 1]; exr, pfm and hdr keep the floats. Missing folders are created. A different base name restarts the numbers at 1 (use set_nr after output to start elsewhere); the same base again, also in another format, keeps counting.",
+    details: "The format follows the extension: tiff/tif (default: vorang.tiff), png, bmp, tga, ppm/pnm, pgm, pam, jpg/jpeg, gif, ico, qoi, webp, hdr, exr, pfm (float RGB), rgb/sgi/rgba (SGI), and from the thesis's list pbm and xbm (1-bit: white where the luminance is at least 0.5), xwd, ras, pcx, eps, ps, pict, iff (Amiga ILBM), x (AVS), viff (Khoros) and rle (Utah RLE, the thesis's rlc) — docs/formats.md lists them all. 8-bit formats clip to [0, 1]; exr, pfm and hdr keep the floats. Missing folders are created. A different base name restarts the numbers at 1 (use set_nr after output to start elsewhere); the same base again, also in another format, keeps counting.",
     run: |s: &mut Session, c: &Call| {
         c.expect(1..=1)?;
         let path = c.path(0);
@@ -61,7 +61,7 @@ pub const BACKGROUND: CommandInfo = CommandInfo {
     name: "background",
     usage: "file|clear|none|r g b",
     summary: "an image under the volume (resampled to the image size), 'clear' for uniform white, 'none' for a transparent image, or a uniform colour",
-    details: "Default: uniform white. The image's 8-bit values count as intensities 0…1. A colour (e.g. 'background 0 0 0') is an extension of the thesis's command. Image files are opaque (what the framebuffer shows, composited over the background); 'none' means no background light and writes straight alpha (the volume's opacity) where the format has alpha — light emitted without absorption cannot be represented that way.",
+    details: "Default: uniform white. The image may be in any format 'output' writes except eps and ps (reading PostScript needs an interpreter); its 8-bit values count as intensities 0…1, pfm, exr and hdr values as they are. A colour (e.g. 'background 0 0 0') is an extension of the thesis's command. Image files are opaque (what the framebuffer shows, composited over the background); 'none' means no background light and writes straight alpha (the volume's opacity) where the format has alpha — light emitted without absorption cannot be represented that way.",
     run: |s: &mut Session, c: &Call| {
         if c.args().len() == 3 {
             let rgb = c.numbers(0, ["r", "g", "b"])?;
