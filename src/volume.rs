@@ -171,6 +171,19 @@ impl Volume {
         Ok(self.data.fields.len() - 1)
     }
 
+    /// Adds a scalar field interpolated linearly from one double value per node (the most
+    /// common field: a FEM solution on the nodes). Returns its number.
+    pub fn add_node_field(&mut self, name: Option<&str>, values: Vec<f64>) -> Result<usize, Error> {
+        let ty = DataType::scalar(ScalarType::Double);
+        let raw = self.add_raw(RawData {
+            kind: ElementKind::Node,
+            ty,
+            denominator: None,
+            values: crate::data::Values::F64(values),
+        })?;
+        self.add_field(name, ty, Interpolator::Linear, &[raw])
+    }
+
     /// The element count of a kind in this volume (`None` if the grid does not have such
     /// elements listed).
     pub fn count(&self, kind: ElementKind) -> Option<usize> {

@@ -4,8 +4,6 @@
 //! slab, I = I0·θ + η/χ·(1 − θ) with θ = e^{−χl}.
 
 use vorang::Volume;
-use vorang::field::Interpolator;
-use vorang::hypermesh::{DataType, ElementKind, RawData, ScalarType, Values};
 use vorang::mapping::{AlphaShading, ColorShading, Mapping, parse_map};
 use vorang::mesh::TetMesh;
 use vorang::mesh::generate::kuhn_box;
@@ -20,21 +18,7 @@ fn slab(field: impl Fn([f64; 3]) -> f64) -> Volume {
     let (nodes, tets) = kuhn_box([3, 3, 2], [1.0, 1.0, 0.4], 0.1, 7);
     let values: Vec<f64> = nodes.iter().map(|&p| field(p)).collect();
     let mut vol = Volume::from_mesh("slab", TetMesh::new(nodes, tets).unwrap());
-    let r = vol
-        .add_raw(RawData {
-            kind: ElementKind::Node,
-            ty: DataType::scalar(ScalarType::Double),
-            denominator: None,
-            values: Values::F64(values),
-        })
-        .unwrap();
-    vol.add_field(
-        Some("f"),
-        DataType::scalar(ScalarType::Double),
-        Interpolator::Linear,
-        &[r],
-    )
-    .unwrap();
+    vol.add_node_field(Some("f"), values).unwrap();
     vol
 }
 

@@ -48,21 +48,7 @@ fn box_volume(n: usize, size: [f64; 3], jitter: f64, seed: u64) -> Volume {
         .collect();
     let mesh = TetMesh::new(nodes, tets).unwrap();
     let mut vol = Volume::from_mesh("box", mesh);
-    let r = vol
-        .add_raw(RawData {
-            kind: ElementKind::Node,
-            ty: DataType::scalar(ScalarType::Double),
-            denominator: None,
-            values: Values::F64(values),
-        })
-        .unwrap();
-    vol.add_field(
-        Some("s"),
-        DataType::scalar(ScalarType::Double),
-        Interpolator::Linear,
-        &[r],
-    )
-    .unwrap();
+    vol.add_node_field(Some("s"), values).unwrap();
     vol
 }
 
