@@ -118,3 +118,23 @@ fn wrong_positions_and_maps_without_a_scale_are_reported() {
     assert_eq!((scale.lo, scale.hi), (0.0, 1.0));
     assert_eq!(scale.color(0.5), [1.0, 0.0, 0.0]);
 }
+
+#[test]
+fn a_lit_table_shows_its_colours_before_the_lights() {
+    let (vol, _) = Volume::load(Path::new(MESH)).unwrap();
+    let text = "# VoRANG Colormap 1.0\nLIT_EMITTER @1\n@1\n0.2 0.8 0.5 10\n0 0 1 -1\n1 0.5 0 3\n";
+    let map = vorang::mapping::parse_map::<dyn vorang::mapping::ColorShading>(
+        text.as_bytes(),
+        "lit.cmap",
+    )
+    .unwrap()
+    .0;
+    let scale = ColorScale::of_map(&map, &vol).unwrap();
+    assert_eq!((scale.lo, scale.hi), (-1.0, 3.0));
+    let Some(ScalarColor::Table(table)) = map.lines[0].method.legend_form() else {
+        panic!("no table");
+    };
+    assert_eq!(table.eval(1.0), [0.5, 0.25, 0.5]);
+    // Not a scalar form: the renderer's one-table fast path must not skip the lights.
+    assert!(map.lines[0].method.scalar_form().is_none());
+}

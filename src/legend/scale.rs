@@ -32,7 +32,7 @@ impl ColorScale {
     }
 
     /// The scale of a colormap bound to `vol`: a SIMPLE_EMITTER (or ABSORPTION_WEIGHTED: its
-    /// table, before the χ factor) over its table's values, or CONSTANT over the field's data
+    /// table, before the χ factor; LIT_EMITTER: before the lights) over its table's values, or CONSTANT over the field's data
     /// range. Maps with several method lines, or whose colour is not a function of one scalar
     /// (IDENTITY, CONST_CELL), have none: the message says why.
     pub fn of_map(map: &ColorMap, vol: &Volume) -> Result<ColorScale, String> {
@@ -58,7 +58,7 @@ impl ColorScale {
                 None => Err(format!("the volume has no field {field}")),
             }
         };
-        let (source, (lo, hi)) = match line.method.scalar_form() {
+        let (source, (lo, hi)) = match line.method.legend_form() {
             Some(ScalarColor::Table(t)) => {
                 let v = t.values();
                 let range = if v.len() > 1 {

@@ -128,6 +128,11 @@ pub trait ColorShading: Send + Sync + fmt::Debug {
     fn scalar_form(&self) -> Option<ScalarColor<'_>> {
         None
     }
+    /// The colour scale a legend draws for the method: its scalar form, or for a lit table
+    /// (`LIT_EMITTER`) the table before the lights shade it.
+    fn legend_form(&self) -> Option<ScalarColor<'_>> {
+        self.scalar_form()
+    }
     /// How many evaluations had to clamp a negative emission to 0 since the last call
     /// (`IDENTITY` of a field with negative components), for one warning per render.
     fn take_clamped(&self) -> u64 {

@@ -7,7 +7,7 @@
 use std::sync::Arc;
 
 use crate::mapping::block::{BlockError, ParamBlock, non_negative, required};
-use crate::mapping::{ColorShading, FieldNeed, Point, Shape, Table};
+use crate::mapping::{ColorShading, FieldNeed, Point, ScalarColor, Shape, Table};
 use crate::scene::Phong;
 
 pub const INFO: crate::mapping::MethodInfo<dyn ColorShading> = crate::mapping::MethodInfo {
@@ -71,6 +71,10 @@ impl ColorShading for LitEmitter {
     }
     fn breakpoints(&self) -> &[f64] {
         self.table.values()
+    }
+    /// The legend shows the table's colours; the lights only scale them.
+    fn legend_form(&self) -> Option<ScalarColor<'_>> {
+        Some(ScalarColor::Table(&self.table))
     }
     fn phong(&self) -> Option<&Phong> {
         Some(&self.phong)
