@@ -513,16 +513,24 @@ pub fn render_watched(
 /// box of the four projected nodes is the footprint's, except for a cell reaching in front of a
 /// perspective near plane, whose clipped footprint is computed.
 fn tile_range(f: &Frame, cell: usize, tile: usize, tx: usize, ty: usize) -> Option<[u32; 4]> {
-    let eye = f.eye_corners(cell);
-    let b = match f.projector {
-        Projector::Persp { depth, .. } if eye.iter().any(|p| -p[2] < depth.0) => footprint(
+    // Only a perspective view needs the eye-space corners (the near-plane test): the
+    // orthographic bins read the screen corners alone, half the scattered node reads.
+    let near_clipped = match f.projector {
+        Projector::Persp { depth, .. } => {
+            let eye = f.eye_corners(cell);
+            eye.iter().any(|p| -p[2] < depth.0).then_some(eye)
+        }
+        _ => None,
+    };
+    let b = match near_clipped {
+        Some(eye) => footprint(
             f.vol.mesh.tets()[cell],
             &eye,
             &f.screen_corners(cell),
             &f.projector,
         )?
         .bbox()?,
-        _ => {
+        None => {
             let s = f.screen_corners(cell);
             let mut b = [s[0][0], s[0][1], s[0][0], s[0][1]];
             for p in &s[1..] {
