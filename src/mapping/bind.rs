@@ -618,9 +618,24 @@ impl Mapping {
         if self.color_layout.category.is_some() || self.alpha_layout.category.is_some() {
             return None;
         }
-        let (color, alpha) = (self.color.lines.first()?, self.alpha.lines.first()?);
+        let (mut t, field) = self.pair_transfer(vol, 0, 0)?;
+        if let Some(n) = field {
+            t.node_values = node_values(vol, n);
+        }
+        Some(t)
+    }
+
+    /// Colour line `ci` with alpha line `ai` as one merged 1D transfer function (its node values
+    /// left empty) and the field it reads, if the pair has that form.
+    fn pair_transfer(
+        &self,
+        vol: &Volume,
+        ci: usize,
+        ai: usize,
+    ) -> Option<(Transfer1D, Option<usize>)> {
+        let (color, alpha) = (self.color.lines.get(ci)?, self.alpha.lines.get(ai)?);
         let (c, a) = (color.method.scalar_form()?, alpha.method.scalar_form()?);
-        let slots = [self.color_layout.lines[0], self.alpha_layout.lines[0]];
+        let slots = [self.color_layout.lines[ci], self.alpha_layout.lines[ai]];
         let mut field = None;
         for slot in slots.into_iter().flatten() {
             let k = self.slots.iter().position(|x| *x == slot)?;
@@ -633,25 +648,76 @@ impl Mapping {
             }
             field = Some(n);
         }
-        let node_values = match field {
-            None => Vec::new(),
-            Some(n) => {
-                let f = &vol.data.fields[n];
-                if f.interpolator != Interpolator::Linear || !f.is_scalar() {
-                    return None;
-                }
-                let raw = &vol.data.raw[f.sources[0]];
-                (0..vol.mesh.node_count())
-                    .map(|i| raw.value(i, 0))
-                    .collect()
+        if let Some(n) = field {
+            let f = &vol.data.fields[n];
+            if f.interpolator != Interpolator::Linear || !f.is_scalar() {
+                return None;
             }
+        }
+        let t = Transfer1D::new(c, color.method.uses_absorption(), a, Vec::new());
+        Some((t, field))
+    }
+
+    /// For maps whose category fields are constant per cell (a material number, the usual
+    /// case): a merged 1D transfer function for every pair of method lines that has that form,
+    /// so that a cell — whose lines are fixed — takes the fast path of a map without
+    /// categories. `None` without categories (see [`Mapping::transfer`]) or where a category
+    /// field varies inside cells.
+    pub fn category_transfers(&self, vol: &Volume) -> Option<CategoryTransfers> {
+        let categories = [self.color_layout.category, self.alpha_layout.category];
+        if categories.iter().all(Option::is_none) {
+            return None;
+        }
+        for slot in categories.into_iter().flatten() {
+            let k = self.slots.iter().position(|x| *x == slot)?;
+            let f = &vol.data.fields[self.fields[k]];
+            if f.interpolator != Interpolator::Constant || self.parts[k].is_some() {
+                return None;
+            }
+        }
+        let alpha_lines = self.alpha.lines.len();
+        let mut fields: Vec<usize> = Vec::new();
+        let mut pairs = Vec::with_capacity(self.color.lines.len() * alpha_lines);
+        for ci in 0..self.color.lines.len() {
+            for ai in 0..alpha_lines {
+                pairs.push(self.pair_transfer(vol, ci, ai).map(|(t, field)| {
+                    let values = field.map(|n| match fields.iter().position(|&f| f == n) {
+                        Some(i) => i,
+                        None => {
+                            fields.push(n);
+                            fields.len() - 1
+                        }
+                    });
+                    (t, values)
+                }));
+            }
+        }
+        if pairs.iter().all(Option::is_none) {
+            return None;
+        }
+        Some(CategoryTransfers {
+            pairs,
+            alpha_lines,
+            node_values: fields.iter().map(|&n| node_values(vol, n)).collect(),
+        })
+    }
+
+    /// The method lines of a cell whose category fields are constant per cell (as
+    /// [`Mapping::category_transfers`] requires): the lines every sample in it selects.
+    pub fn cell_lines(&self, vol: &Volume, cell: usize) -> Lines {
+        let on = vol.support();
+        let category = |layout: &Layout| {
+            layout.category.map(|s| {
+                let k = self.slots.iter().position(|x| *x == s).unwrap_or(0);
+                let mut v = [0.0];
+                vol.data.fields[self.fields[k]].eval(&on, cell, &[0.25; 4], [0.0; 3], &mut v);
+                v[0]
+            })
         };
-        Some(Transfer1D::new(
-            c,
-            color.method.uses_absorption(),
-            a,
-            node_values,
-        ))
+        Lines {
+            color: select(&self.color, category(&self.color_layout)),
+            alpha: select(&self.alpha, category(&self.alpha_layout)),
+        }
     }
 
     pub fn color_map(&self) -> &ColorMap {
@@ -680,4 +746,34 @@ fn default_lighting() -> &'static Lighting {
         Lighting::new(&[], &crate::scene::View::default(), [0.0; 3])
             .expect("the identity transform is regular")
     })
+}
+
+/// A scalar Linear field's value at every node.
+fn node_values(vol: &Volume, n: usize) -> Vec<f64> {
+    let raw = &vol.data.raw[vol.data.fields[n].sources[0]];
+    (0..vol.mesh.node_count())
+        .map(|i| raw.value(i, 0))
+        .collect()
+}
+
+/// The merged transfer functions of a map with per-cell categories
+/// ([`Mapping::category_transfers`]).
+#[derive(Debug, Clone)]
+pub struct CategoryTransfers {
+    /// Per colour line × alpha line: the merged function and which `node_values` it reads.
+    pairs: Vec<Option<(Transfer1D, Option<usize>)>>,
+    alpha_lines: usize,
+    /// The node values of each field the pairs read.
+    node_values: Vec<Vec<f64>>,
+}
+
+impl CategoryTransfers {
+    /// The transfer function of a cell with these lines and its field's node values (empty
+    /// where it reads none); `None` where a map has no line for the cell or the pair has no
+    /// merged form.
+    pub fn of(&self, lines: Lines) -> Option<(&Transfer1D, &[f64])> {
+        let (c, a) = (lines.color?, lines.alpha?);
+        let (t, values) = self.pairs.get(c * self.alpha_lines + a)?.as_ref()?;
+        Some((t, values.map_or(&[][..], |i| &self.node_values[i][..])))
+    }
 }

@@ -24,7 +24,7 @@ mod transfer;
 use std::fmt;
 use std::sync::Arc;
 
-pub use bind::{Lines, Mapping};
+pub use bind::{CategoryTransfers, Lines, Mapping};
 pub use block::ParamBlock;
 pub use parse::{parse_map, read_map};
 pub use part::{COMPLEX_HELP, MapField, Part, part_ranges};

@@ -1,7 +1,7 @@
 //! What every tile of one frame shares: the volume and mapping, the camera, node positions in
 //! eye space and on screen, and per-pixel inputs (background, line depth).
 
-use crate::mapping::{Mapping, Transfer1D};
+use crate::mapping::{CategoryTransfers, Mapping, Transfer1D};
 use crate::scene::Projector;
 use crate::volume::Volume;
 
@@ -16,6 +16,9 @@ pub struct Frame<'a> {
     pub mapping: &'a Mapping,
     /// The mapping as a merged 1D transfer function, where it has that form (the fast path).
     pub transfer: Option<Transfer1D>,
+    /// For a map whose categories are constant per cell (materials): a transfer function per
+    /// pair of method lines, so that such cells take the fast path too.
+    pub category_transfers: Option<CategoryTransfers>,
     pub projector: Projector,
     pub width: usize,
     pub height: usize,
@@ -59,10 +62,21 @@ impl Frame<'_> {
     /// The transfer function's field at a cell's four nodes (zeros if it reads no field).
     #[inline]
     pub fn node_values(&self, cell: usize) -> [f64; 4] {
-        match &self.transfer {
-            Some(t) if !t.node_values.is_empty() => self.vol.mesh.gather(cell, &t.node_values),
+        match self.transfer_of(cell) {
+            Some((_, values)) if !values.is_empty() => self.vol.mesh.gather(cell, values),
             _ => [0.0; 4],
         }
+    }
+
+    /// The mapping inside `cell` as a merged 1D transfer function, with its field's node values
+    /// (empty if it reads none): the frame's one, or the one of the cell's category lines.
+    #[inline]
+    pub fn transfer_of(&self, cell: usize) -> Option<(&Transfer1D, &[f64])> {
+        if let Some(t) = &self.transfer {
+            return Some((t, &t.node_values));
+        }
+        let per_category = self.category_transfers.as_ref()?;
+        per_category.of(self.mapping.cell_lines(self.vol, cell))
     }
 
     /// The four corners of a cell in eye space.

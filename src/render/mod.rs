@@ -312,6 +312,10 @@ pub fn render_watched(
     }
     let screen: Vec<[f64; 2]> = eye_nodes.par_iter().map(|&p| projector.screen(p)).collect();
     let transfer = mapping.transfer(vol);
+    let category_transfers = match transfer {
+        None => mapping.category_transfers(vol),
+        Some(_) => None,
+    };
     let setup = started.elapsed();
 
     let sorting = Instant::now();
@@ -361,6 +365,7 @@ pub fn render_watched(
         vol,
         mapping,
         transfer,
+        category_transfers,
         projector,
         width,
         height,

@@ -267,7 +267,7 @@ impl Approx for Exact {
         if !self.rule.exact_for_linear || (self.step > 0.0 && geometry.length > self.step) {
             return None;
         }
-        let t = f.transfer.as_ref()?;
+        let (t, _) = f.transfer_of(cell)?;
         let v = f.node_values(cell);
         if !v.iter().all(|x| x.is_finite()) {
             return None;
@@ -346,7 +346,7 @@ impl Approx for Exact {
         px: &Pixel,
         s: &mut Scratch,
     ) -> ([f64; 3], f64) {
-        if let Some(t) = &f.transfer {
+        if let Some((t, _)) = f.transfer_of(cell) {
             let acc = self.transfer_pixel(t, v, px, s);
             let k = self.brightness;
             return ([acc.0[0] * k, acc.0[1] * k, acc.0[2] * k], acc.1);
