@@ -1072,3 +1072,67 @@ fn per_cell_categories_take_the_fast_path_and_agree_with_the_reference() {
     let (slow, _) = render(&vol, &map, &view, &off, None).unwrap();
     assert!(max_diff_fb(&fb, &slow) <= 1e-6);
 }
+
+/// The same category map through the fast path (a Constant material field) and the general one
+/// (the same material numbers as a Linear field, which could vary inside a cell and so gets no
+/// merged transfer functions): every method gives the same image.
+#[test]
+fn per_cell_categories_give_every_method_the_image_of_the_general_path() {
+    let mut vol = box_volume(4, [1.0, 1.2, 0.9], 0.1, 9);
+    let cells = vol.mesh.tet_count();
+    let nodes = vol.mesh.node_count();
+    // Material 1 everywhere, once per cell and once per node.
+    let r = vol
+        .add_raw(RawData {
+            kind: ElementKind::Tetrahedron,
+            ty: DataType::scalar(ScalarType::Byte),
+            denominator: None,
+            values: Values::U8(vec![1; cells]),
+        })
+        .unwrap();
+    let per_cell = vol
+        .add_field(
+            Some("material"),
+            DataType::scalar(ScalarType::Byte),
+            Interpolator::Constant,
+            &[r],
+        )
+        .unwrap();
+    let per_node = vol.add_node_field(Some("m"), vec![1.0; nodes]).unwrap();
+    let maps = |cat: usize| {
+        mapping(
+            &vol,
+            &format!(
+                "# VoRANG Colormap 1.0\nDataField 0\nCategoryField {cat}\nCONSTANT from:-1 to:0.5 @2\n\
+                 SIMPLE_EMITTER from:0.5 to:2 @1\n@1\n0 0 1 -0.5\n1 1 0 0.5\n1 0 0 1.5\n@2\n1 1 1\n"
+            ),
+            &format!(
+                "# VoRANG Alphamap 1.0\nDataField 0\nCategoryField {cat}\n\
+                 SIMPLE_ABSORBER from:0.5 to:2 @1\n@1\n0.5 -0.4\n4 0.7\n"
+            ),
+        )
+    };
+    let (fast, general) = (maps(per_cell), maps(per_node));
+    assert!(fast.category_transfers(&vol).is_some());
+    assert!(general.category_transfers(&vol).is_none());
+    let view = View {
+        transforms: vec![TransformOp::Rotate {
+            axis: [1.0, 2.0, 0.5],
+            degrees: 35.0,
+        }],
+        ..View::default()
+    };
+    for method in [
+        "exact linear 0 1",
+        "exact constEA 0.03 1",
+        "interpolateCoeff linear 1",
+        "interpolateColor 1",
+    ] {
+        let s = settings(32, 32, method);
+        let a = render(&vol, &fast, &view, &s, None).unwrap().0;
+        let b = render(&vol, &general, &view, &s, None).unwrap().0;
+        assert!(a.max_channel() > 0.01, "{method}");
+        let d = max_diff_fb(&a, &b);
+        assert!(d <= 1e-6, "{method}: differs by {d}");
+    }
+}

@@ -42,7 +42,7 @@ impl Frame<'_> {
     /// evaluated once with its own interpolator, then mapped. `buf` is scratch space.
     #[inline]
     pub fn mapped(&self, cell: usize, lambda: &[f64; 4], buf: &mut Vec<f64>) -> ([f64; 3], f64) {
-        if let Some(t) = &self.transfer {
+        if let Some((t, _)) = self.transfer_of(cell) {
             return t.eval(Transfer1D::scalar(&self.node_values(cell), lambda));
         }
         let tet = self.vol.mesh.tets()[cell];
