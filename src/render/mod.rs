@@ -643,8 +643,9 @@ fn render_tile<A: Approx>(
         scratch.faces = vec![[f64::NAN; 2]; n];
     }
     let mut fragments = 0u64;
-    // Orthographic, composited in the sort's order: cells may go through the span kernel.
-    let span_frame = f.span_kernels && A::SPAN && !per_pixel;
+    // Cells may go through the span kernel: composited in the sort's order, or (per-pixel
+    // order) each pixel's result added to its runs.
+    let span_frame = f.span_kernels && A::SPAN;
     let ray_planes = f.projector.ray_planes();
     let ray_dirs = f.projector.is_perspective().then(|| {
         let d = ray_planes.dir;
@@ -705,8 +706,9 @@ fn render_tile<A: Approx>(
                     for piece in &mut sc.cells {
                         piece.rays = ray_dirs;
                     }
-                    let Pixels::Direct(acc) = &mut pixels else {
-                        unreachable!("span kernels composite directly")
+                    let acc = match &mut pixels {
+                        Pixels::Direct(acc) => Some(&mut acc[..]),
+                        Pixels::Runs(_) => None,
                     };
                     let drawn = span::draw(
                         &sc,
@@ -718,6 +720,27 @@ fn render_tile<A: Approx>(
                         acc,
                         order,
                     );
+                    if let Pixels::Runs(runs) = &mut pixels {
+                        // Each pixel's fragment chained through the faces its run enters and
+                        // leaves by, as on the per-pixel path below.
+                        let b = &span_buf;
+                        for &[first, len, entry, exit] in &b.runs {
+                            let (en, xn) = (nb[entry as usize], nb[exit as usize]);
+                            for i in first as usize..(first + len) as usize {
+                                let l = runs::Link {
+                                    cell: cell as u32,
+                                    entry_neighbor: en,
+                                    exit_neighbor: xn,
+                                    entry_earlier: earlier(en),
+                                    exit_earlier: earlier(xn),
+                                    near: b.near[i],
+                                    far: b.far[i],
+                                };
+                                let piece = ([b.b[0][i], b.b[1][i], b.b[2][i]], b.theta[i]);
+                                runs.add(b.slot[i] as usize, l, piece);
+                            }
+                        }
+                    }
                     fragments += drawn;
                     lane_fragments += drawn;
                     continue;

@@ -141,11 +141,15 @@ pub struct SpanBuffer {
     /// `b` (RGB) and θ per pixel after [`shade`].
     pub b: [Vec<f64>; 3],
     pub theta: Vec<f64>,
+    /// The gathered runs of [`draw`]: first pixel, pixel count, entry and exit face — what a
+    /// per-pixel order ([`super::runs`]) needs to chain each pixel's fragment.
+    pub runs: Vec<[u32; 4]>,
 }
 
 impl SpanBuffer {
     pub fn clear(&mut self) {
         self.n = 0;
+        self.runs.clear();
     }
 
     /// Room for `more` pixels after the current ones, up to a whole batch.
@@ -330,6 +334,8 @@ pub fn shade(cell: &SpanCell, buf: &mut SpanBuffer) {
 /// tile) with their entry and exit depths from `faces`, integrates every piece, and composites
 /// the results into the tile's pixels `acc` (row-major in `rect`) in `order`. Returns the number
 /// of pixels composited. Gathering and compositing are compiled with the kernel, for its width.
+/// Without `acc` (a per-pixel order) the results stay in `buf` — `b`, `theta`, `near`, `far`,
+/// `slot` per pixel and the runs' faces in `runs` — and the count is of those pixels.
 #[allow(clippy::too_many_arguments)]
 pub fn draw(
     pieces: &SpanPieces,
@@ -338,7 +344,7 @@ pub fn draw(
     faces: &CellFaces,
     rect: Rect,
     buf: &mut SpanBuffer,
-    acc: &mut [([f64; 3], f64)],
+    acc: Option<&mut [([f64; 3], f64)]>,
     order: Order,
 ) -> u64 {
     draw_with(kernel(), pieces, screen, hull, faces, rect, buf, acc, order)
@@ -355,7 +361,7 @@ fn draw_with(
     faces: &CellFaces,
     rect: Rect,
     buf: &mut SpanBuffer,
-    acc: &mut [([f64; 3], f64)],
+    acc: Option<&mut [([f64; 3], f64)]>,
     order: Order,
 ) -> u64 {
     let d = Draw {
@@ -392,6 +398,12 @@ fn push_row(
     for run in cf.spans(row, from, to).runs() {
         let (entry, exit) = (run.entry as usize, run.exit as usize);
         let slot = first + run.x0 - rect.x0;
+        buf.runs.push([
+            buf.n as u32,
+            (run.x1 - run.x0) as u32,
+            entry as u32,
+            exit as u32,
+        ]);
         match (cf.depth_row(entry, py), cf.depth_row(exit, py)) {
             (Some(n), Some(f)) => buf.push_run(slot, run.x0, run.x1, py, n, f),
             _ => buf.push_run_slivers(slot, run.x0, run.x1, py, cf, entry, exit),
@@ -411,13 +423,13 @@ struct Draw<'a> {
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
-fn draw_avx2(d: &Draw, buf: &mut SpanBuffer, acc: &mut [([f64; 3], f64)]) -> u64 {
+fn draw_avx2(d: &Draw, buf: &mut SpanBuffer, acc: Option<&mut [([f64; 3], f64)]>) -> u64 {
     draw_body::<16>(d, buf, acc)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-fn draw_avx512(d: &Draw, buf: &mut SpanBuffer, acc: &mut [([f64; 3], f64)]) -> u64 {
+fn draw_avx512(d: &Draw, buf: &mut SpanBuffer, acc: Option<&mut [([f64; 3], f64)]>) -> u64 {
     draw_body::<32>(d, buf, acc)
 }
 
@@ -425,7 +437,7 @@ fn draw_avx512(d: &Draw, buf: &mut SpanBuffer, acc: &mut [([f64; 3], f64)]) -> u
 fn draw_body<const WIDE: usize>(
     d: &Draw,
     buf: &mut SpanBuffer,
-    acc: &mut [([f64; 3], f64)],
+    acc: Option<&mut [([f64; 3], f64)]>,
 ) -> u64 {
     let (cf, rect) = (d.faces, d.rect);
     buf.clear();
@@ -457,7 +469,10 @@ fn draw_body<const WIDE: usize>(
             (true, true) => kernel_body::<WIDE, true, true>(piece, buf),
         }
     }
-    composite_all(buf, acc, d.order)
+    match acc {
+        Some(acc) => composite_all(buf, acc, d.order),
+        None => buf.len() as u64,
+    }
 }
 
 /// Composites every pixel of `buf` (after shading) into the tile's pixels; returns how many.
@@ -884,7 +899,7 @@ mod tests {
                     &faces,
                     rect,
                     &mut buf,
-                    &mut acc,
+                    Some(&mut acc),
                     Order::BackToFront,
                 );
                 assert!(drawn > 300, "{drawn}");
