@@ -42,8 +42,8 @@ impl Frame<'_> {
     /// evaluated once with its own interpolator, then mapped. `buf` is scratch space.
     #[inline]
     pub fn mapped(&self, cell: usize, lambda: &[f64; 4], buf: &mut Vec<f64>) -> ([f64; 3], f64) {
-        if let Some((t, _)) = self.transfer_of(cell) {
-            return t.eval(Transfer1D::scalar(&self.node_values(cell), lambda));
+        if let Some((t, values)) = self.transfer_of(cell) {
+            return t.eval(Transfer1D::scalar(&self.gather(cell, values), lambda));
         }
         let tet = self.vol.mesh.tets()[cell];
         let nodes = self.vol.mesh.nodes();
@@ -63,8 +63,18 @@ impl Frame<'_> {
     #[inline]
     pub fn node_values(&self, cell: usize) -> [f64; 4] {
         match self.transfer_of(cell) {
-            Some((_, values)) if !values.is_empty() => self.vol.mesh.gather(cell, values),
-            _ => [0.0; 4],
+            Some((_, values)) => self.gather(cell, values),
+            None => [0.0; 4],
+        }
+    }
+
+    /// A transfer function's node values at a cell's four nodes (zeros if it reads no field).
+    #[inline]
+    pub fn gather(&self, cell: usize, values: &[f64]) -> [f64; 4] {
+        if values.is_empty() {
+            [0.0; 4]
+        } else {
+            self.vol.mesh.gather(cell, values)
         }
     }
 

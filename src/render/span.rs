@@ -382,8 +382,10 @@ fn draw_with(
     }
 }
 
-/// The runs of row `y`, pixels `from..to` (splits in `row`), into the buffer with their depths.
+/// The runs of row `y`, pixels `from..to` (splits in `row`), into the buffer with their depths;
+/// with `record_runs`, each run's first pixel, length and faces into `buf.runs` too.
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn push_row(
     buf: &mut SpanBuffer,
     cf: &CellFaces,
@@ -392,18 +394,21 @@ fn push_row(
     from: usize,
     to: usize,
     row: &Row,
+    record_runs: bool,
 ) {
     let py = y as f64 + 0.5;
     let first = (y - rect.y0) * (rect.x1 - rect.x0);
     for run in cf.spans(row, from, to).runs() {
         let (entry, exit) = (run.entry as usize, run.exit as usize);
         let slot = first + run.x0 - rect.x0;
-        buf.runs.push([
-            buf.n as u32,
-            (run.x1 - run.x0) as u32,
-            entry as u32,
-            exit as u32,
-        ]);
+        if record_runs {
+            buf.runs.push([
+                buf.n as u32,
+                (run.x1 - run.x0) as u32,
+                entry as u32,
+                exit as u32,
+            ]);
+        }
         match (cf.depth_row(entry, py), cf.depth_row(exit, py)) {
             (Some(n), Some(f)) => buf.push_run(slot, run.x0, run.x1, py, n, f),
             _ => buf.push_run_slivers(slot, run.x0, run.x1, py, cf, entry, exit),
@@ -440,11 +445,13 @@ fn draw_body<const WIDE: usize>(
     acc: Option<&mut [([f64; 3], f64)]>,
 ) -> u64 {
     let (cf, rect) = (d.faces, d.rect);
+    // Only a per-pixel order (no `acc`) reads the runs' faces afterwards.
+    let record = acc.is_none();
     buf.clear();
     if let Some(rows) = CellRows::new(d.screen, d.hull, cf.needed(), rect) {
         for y in rows.ys() {
             if let Some((from, to, row)) = rows.row(y) {
-                push_row(buf, cf, rect, y, from, to, &row);
+                push_row(buf, cf, rect, y, from, to, &row, record);
             }
         }
     } else {
@@ -455,7 +462,7 @@ fn draw_body<const WIDE: usize>(
         for i in 0..buf.rows.len() {
             let [y, from, to] = buf.rows[i];
             let row = cf.row(y, from, to);
-            push_row(buf, cf, rect, y, from, to, &row);
+            push_row(buf, cf, rect, y, from, to, &row, record);
         }
     }
     if d.pieces.count > 1 {

@@ -267,8 +267,8 @@ impl Approx for Exact {
         if !self.rule.exact_for_linear || (self.step > 0.0 && geometry.length > self.step) {
             return None;
         }
-        let (t, _) = f.transfer_of(cell)?;
-        let v = f.node_values(cell);
+        let (t, values) = f.transfer_of(cell)?;
+        let v = f.gather(cell, values);
         if !v.iter().all(|x| x.is_finite()) {
             return None;
         }
