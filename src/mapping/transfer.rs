@@ -164,6 +164,20 @@ impl Transfer1D {
         (lo, hi)
     }
 
+    /// η and χ at every one of `nodes` nodes, where that is what the mapping gives at a cell's
+    /// node: the field has a value at each node, all finite (a node's barycentric sum
+    /// `0·v_0 + … + 1·v_i + …` ([`Transfer1D::scalar`]) is then `v_i` exactly; a non-finite
+    /// value at another node of the cell would make it NaN). Methods that map at the nodes
+    /// (`interpolateColor`, `interpolateCoeff`) then map once per frame, not once per cell.
+    pub fn map_nodes(&self, nodes: usize) -> Option<Vec<([f64; 3], f64)>> {
+        use rayon::prelude::*;
+        let v = &self.node_values;
+        if v.len() != nodes || !v.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        Some(v.par_iter().map(|&s| self.eval(s)).collect())
+    }
+
     /// `(η, χ)` at `s` (NaN maps like the tables: to their first row).
     #[inline]
     pub fn eval(&self, s: f64) -> ([f64; 3], f64) {
@@ -221,6 +235,44 @@ mod tests {
             })
             .collect();
         Table::from_rows(&rows, "t").unwrap()
+    }
+
+    /// Per node: the same bits as mapping a cell's node through its barycentric sum, and no
+    /// per-node table where that sum would differ (a NaN or infinity at a node) or where the
+    /// field is not one value per node.
+    #[test]
+    fn nodes_are_mapped_as_at_a_cells_node() {
+        let c = table::<3>(&[&[0.0, 0.0, 1.0, 0.2], &[1.0, 0.5, 0.0, 0.6]]);
+        let a = table::<1>(&[&[0.1, 0.4], &[0.9, 0.7]]);
+        let values = vec![0.05, 0.3, 0.77, 1.2];
+        let t = Transfer1D::new(
+            ScalarColor::Table(&c),
+            true,
+            ScalarAlpha::Table(&a),
+            values.clone(),
+        );
+        let mapped = t.map_nodes(4).unwrap();
+        for i in 0..4 {
+            let mut lambda = [0.0; 4];
+            lambda[i] = 1.0;
+            let want = t.eval(Transfer1D::scalar(
+                &[values[0], values[1], values[2], values[3]],
+                &lambda,
+            ));
+            assert_eq!(mapped[i], want);
+        }
+        assert!(t.map_nodes(5).is_none());
+        for bad in [f64::NAN, f64::INFINITY] {
+            let t = Transfer1D::new(
+                ScalarColor::Table(&c),
+                false,
+                ScalarAlpha::Table(&a),
+                vec![0.2, bad, 0.4, 0.5],
+            );
+            assert!(t.map_nodes(4).is_none());
+            // Why: at another node of a cell holding the bad one, the sum is NaN.
+            assert!(Transfer1D::scalar(&[0.2, bad, 0.4, 0.5], &[1.0, 0.0, 0.0, 0.0]).is_nan());
+        }
     }
 
     #[test]

@@ -19,6 +19,10 @@ pub struct Frame<'a> {
     /// For a map whose categories are constant per cell (materials): a transfer function per
     /// pair of method lines, so that such cells take the fast path too.
     pub category_transfers: Option<CategoryTransfers>,
+    /// η and χ mapped at every node ([`Transfer1D::map_nodes`]), for the methods that map at the nodes
+    /// (`interpolateColor`, `interpolateCoeff`): once per frame instead of once per cell
+    /// and node.
+    pub node_mapped: Option<Vec<([f64; 3], f64)>>,
     pub projector: Projector,
     pub width: usize,
     pub height: usize,

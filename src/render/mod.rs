@@ -316,6 +316,12 @@ pub fn render_watched(
         None => mapping.category_transfers(vol),
         Some(_) => None,
     };
+    let node_mapped = match (&transfer, &settings.method) {
+        (Some(t), Method::InterpolateColor(_) | Method::InterpolateCoeff(_)) => {
+            t.map_nodes(mesh.node_count())
+        }
+        _ => None,
+    };
     let setup = started.elapsed();
 
     let sorting = Instant::now();
@@ -366,6 +372,7 @@ pub fn render_watched(
         mapping,
         transfer,
         category_transfers,
+        node_mapped,
         projector,
         width,
         height,

@@ -34,6 +34,9 @@ pub type NodeCoefficients = [([f64; 3], f64); 4];
 
 /// Maps the field at each node of a cell.
 pub fn node_coefficients(f: &Frame, cell: usize, s: &mut Scratch) -> NodeCoefficients {
+    if let Some(mapped) = &f.node_mapped {
+        return f.vol.mesh.gather(cell, mapped);
+    }
     std::array::from_fn(|i| {
         let mut lambda = [0.0; 4];
         lambda[i] = 1.0;
