@@ -103,6 +103,10 @@ struct Face {
     plane: [f64; 3],
     zmin: f64,
     zmax: f64,
+    /// The inner edges as bit masks over the cell edges: the face holds a pixel when the
+    /// pixel's side bits ([`Row::sides`]) agree with `want` on `tested`.
+    tested: u8,
+    want: u8,
 }
 
 /// A cell's faces prepared for per-pixel lookups. Valid for footprints that are whole
@@ -118,7 +122,17 @@ pub struct CellFaces {
     perspective: bool,
     /// The cell edges some face must test (bit e for [`EDGE_NODES`]`[e]`).
     needed: u8,
+    /// Those edges listed (at most three: the inner edges of two or three faces of one kind
+    /// tiling the footprint), and per pattern of a pixel's sides of them (bit j: inside
+    /// `inner[j]`) the entry and exit face that hold it ([`CellFaces::faces_in_row`]'s choice,
+    /// made once per cell instead of once per run); `NO_PAIR` where a kind has no face.
+    inner: [u8; 3],
+    inner_count: u8,
+    pairs: [[u8; 2]; 8],
 }
+
+/// No entry or no exit face ([`CellFaces::spans`] then has no runs).
+const NO_PAIR: u8 = u8::MAX;
 
 /// Where a pixel's ray crosses a cell, from its faces.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -175,7 +189,11 @@ impl CellFaces {
             // Twice the area against the square of the longest edge: the sine of the face's
             // sharpest angle, roughly — how far from edge-on it is seen.
             let area = ((a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0])).abs();
-            let len2 = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]).powi(2) + (u[1] - v[1]).powi(2);
+            // Squares as products: `powi` is a library call on the baseline target.
+            let len2 = |u: [f64; 2], v: [f64; 2]| {
+                let (dx, dy) = (u[0] - v[0], u[1] - v[1]);
+                dx * dx + dy * dy
+            };
             let longest = len2(a, b).max(len2(b, c)).max(len2(c, a));
             face.sliver = area.is_nan() || area < SLIVER * longest;
             face.edge_on = face.orient == 0 || area.is_nan() || area < EDGE_ON * longest;
@@ -203,6 +221,15 @@ impl CellFaces {
                 let other = 6 - f - u - v;
                 faces[f].inner[k] = kind[f] != 0 && kind[other] == kind[f];
                 faces[f].edge[k] = (EDGE_OF[u][v], u > v);
+                if faces[f].inner[k] {
+                    // Inside the face means inside u → v: inside the cell edge where u is its
+                    // lower node.
+                    let bit = 1 << EDGE_OF[u][v];
+                    faces[f].tested |= bit;
+                    if u < v {
+                        faces[f].want |= bit;
+                    }
+                }
             }
         }
         let mut out = CellFaces {
@@ -214,6 +241,9 @@ impl CellFaces {
             exits: 0,
             perspective,
             needed: 0,
+            inner: [0; 3],
+            inner_count: 0,
+            pairs: [[NO_PAIR; 2]; 8],
         };
         for face in &faces {
             for k in 0..3 {
@@ -229,6 +259,26 @@ impl CellFaces {
             } else if k < 0 {
                 out.exit[out.exits as usize] = f as u8;
                 out.exits += 1;
+            }
+        }
+        if out.needed.count_ones() <= 3 {
+            for e in 0..6 {
+                if out.needed & (1 << e) != 0 {
+                    out.inner[out.inner_count as usize] = e;
+                    out.inner_count += 1;
+                }
+            }
+            for pattern in 0..1usize << out.inner_count {
+                // The pixel's side bits over all six edges (the others are never tested).
+                let mut sides = 0u8;
+                for j in 0..out.inner_count as usize {
+                    if pattern & (1 << j) != 0 {
+                        sides |= 1 << out.inner[j];
+                    }
+                }
+                if let Some((entry, exit)) = out.faces_for(sides) {
+                    out.pairs[pattern] = [entry, exit];
+                }
             }
         }
         out
@@ -372,17 +422,17 @@ impl CellFaces {
     /// [`CellFaces::hit_in_row`], without the depths).
     #[inline]
     fn faces_in_row(&self, row: &Row, x: usize) -> Option<(u8, u8)> {
+        self.faces_for(row.sides(x))
+    }
+
+    /// The entry and exit face holding a pixel whose sides of the cell edges are `sides` (bit e
+    /// set: inside edge e, from its lower to its higher local node): of each kind, the first
+    /// face all of whose inner edges have the pixel on the face's side, else the last.
+    #[inline]
+    fn faces_for(&self, sides: u8) -> Option<(u8, u8)> {
         let holds = |f: u8| {
             let face = &self.faces[f as usize];
-            (0..3).all(|k| {
-                if !face.inner[k] {
-                    return true;
-                }
-                let (e, against) = face.edge[k];
-                let e = e as usize;
-                let inside = (x >= row.split[e]) == row.rising[e];
-                inside != against
-            })
+            sides & face.tested == face.want
         };
         let pick = |list: &[u8]| -> Option<u8> {
             let (&last, rest) = list.split_last()?;
@@ -403,6 +453,46 @@ impl CellFaces {
             runs: [Run::default(); 7],
             count: 0,
         };
+        if self.needed.count_ones() <= 3 {
+            // The runs end where the (at most three) inner edges split the row: their splits
+            // in order, each run's faces looked up by its first pixel's sides.
+            let n = self.inner_count as usize;
+            let mut at = [to; 3];
+            for j in 0..n {
+                at[j] = row.split[self.inner[j] as usize].clamp(from, to);
+            }
+            let sort = |a: &mut [usize; 3], i: usize, j: usize| {
+                if a[j] < a[i] {
+                    a.swap(i, j);
+                }
+            };
+            sort(&mut at, 0, 1);
+            sort(&mut at, 1, 2);
+            sort(&mut at, 0, 1);
+            let mut x = from;
+            for next in [at[0], at[1], at[2], to] {
+                if next <= x {
+                    continue;
+                }
+                let mut pattern = 0;
+                for j in 0..n {
+                    let e = self.inner[j] as usize;
+                    pattern |= (((x >= row.split[e]) == row.rising[e]) as usize) << j;
+                }
+                let [entry, exit] = self.pairs[pattern];
+                if entry != NO_PAIR {
+                    out.runs[out.count] = Run {
+                        x0: x,
+                        x1: next,
+                        entry,
+                        exit,
+                    };
+                    out.count += 1;
+                }
+                x = next;
+            }
+            return out;
+        }
         let mut x = from;
         while x < to {
             let mut next = to;
@@ -491,6 +581,17 @@ impl Row {
     /// A row whose splits were computed elsewhere ([`super::rows`]), with the same meaning.
     pub fn new(split: [usize; 6], rising: [bool; 6]) -> Row {
         Row { split, rising }
+    }
+
+    /// Bit e set where pixel `x` of the row is inside cell edge e (from its lower to its
+    /// higher local node): from the split on for a rising edge, before it otherwise.
+    #[inline]
+    fn sides(&self, x: usize) -> u8 {
+        let mut bits = 0;
+        for e in 0..6 {
+            bits |= (((x >= self.split[e]) == self.rising[e]) as u8) << e;
+        }
+        bits
     }
 }
 
@@ -656,11 +757,29 @@ mod tests {
             let faces = CellFaces::new([3, 1, 4, 0], &screen, &depth, entry_sign(false), false);
             for y in 0..12 {
                 let row = faces.row(y, 0, 12);
+                // The runs: consecutive, and each pixel in the one whose faces it has.
+                let (from, to) = (3 * (trial % 3), 12 - 2 * (trial % 4));
+                let mut runs = faces.spans(&row, from, to).runs().to_vec();
                 for x in 0..12 {
                     let a = faces.hit(x as f64 + 0.5, y as f64 + 0.5);
                     let b = faces.hit_in_row(&row, x, y);
                     assert_eq!(a, b, "trial {trial}, pixel ({x}, {y})");
+                    if (from..to).contains(&x) {
+                        let run = runs.iter().find(|r| (r.x0..r.x1).contains(&x));
+                        let faces_of =
+                            |h: Option<FaceHit>| h.map(|h| (h.entry_face as u8, h.exit_face as u8));
+                        assert_eq!(
+                            run.map(|r| (r.entry, r.exit)),
+                            faces_of(b),
+                            "trial {trial}, pixel ({x}, {y})"
+                        );
+                    }
                     compared += 1;
+                }
+                runs.retain(|r| r.x0 < r.x1);
+                assert!(runs.windows(2).all(|w| w[0].x1 == w[1].x0), "{runs:?}");
+                if let (Some(a), Some(b)) = (runs.first(), runs.last()) {
+                    assert!(a.x0 >= from && b.x1 <= to);
                 }
             }
         }
