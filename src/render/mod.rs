@@ -659,6 +659,7 @@ fn render_tile<A: Approx>(
         [d[0][0], d[0][1], d[1][0], d[1][2]]
     });
     let mut span_buf = span::SpanBuffer::default();
+    let mut span_pieces = span::SpanPieces::empty();
     let mut lane_fragments = 0u64;
     let tets = f.vol.mesh.tets();
     let neighbors = f.vol.mesh.neighbors();
@@ -709,8 +710,9 @@ fn render_tile<A: Approx>(
                     length: (hi - lo) * ray_planes.max_speed,
                     screen,
                 };
-                if let Some(mut sc) = method.span_cell(f, cell, &geometry, &mut scratch) {
-                    for piece in &mut sc.cells {
+                if method.span_cell(f, cell, &geometry, &mut scratch, &mut span_pieces) {
+                    let sc = &mut span_pieces;
+                    for piece in &mut sc.cells[..sc.count] {
                         piece.rays = ray_dirs;
                     }
                     let acc = match &mut pixels {
@@ -718,7 +720,7 @@ fn render_tile<A: Approx>(
                         Pixels::Runs(_) => None,
                     };
                     let drawn = span::draw(
-                        &sc,
+                        sc,
                         &screen,
                         &v[..count],
                         cf,

@@ -83,6 +83,71 @@ impl Ray<'_> {
 }
 
 impl Exact {
+    /// [`Approx::span_cell`] for `exact`: `None` where the cell goes pixel by pixel.
+    fn span_pieces(
+        &self,
+        f: &Frame,
+        cell: usize,
+        geometry: &SpanGeometry,
+        out: &mut SpanPieces,
+    ) -> Option<()> {
+        if !self.rule.exact_for_linear || (self.step > 0.0 && geometry.length > self.step) {
+            return None;
+        }
+        let (t, values) = f.transfer_of(cell)?;
+        let v = f.gather(cell, values);
+        if !v.iter().all(|x| x.is_finite()) {
+            return None;
+        }
+        let (lo, hi) = v
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
+                (lo.min(x), hi.max(x))
+            });
+        let (first, last) = (t.piece(lo), t.piece(hi));
+        let count = last - first + 1;
+        let s = geometry.rays.affine(&v);
+        // Along every ray the field must run one way through the pieces.
+        let direction = geometry.rate_sign(&s);
+        if count > MAX_PIECES || (count > 1 && direction == 0) {
+            return None;
+        }
+        for (i, slot) in out.cells.iter_mut().take(count).enumerate() {
+            // Nearest first: where the field grows with depth, the lowest piece is in front.
+            let p = if direction > 0 { first + i } else { last - i };
+            let (from, base, slope) = t.affine_piece(p)?;
+            let q: [[f64; 6]; 4] = std::array::from_fn(|k| {
+                [
+                    base[k] + (s[0] - from) * slope[k],
+                    slope[k] * s[1],
+                    slope[k] * s[2],
+                    slope[k] * s[3],
+                    slope[k] * s[4],
+                    slope[k] * s[5],
+                ]
+            });
+            // χ is affine in the field: largest at an end of the cell's range in this piece.
+            let (plo, phi) = t.piece_range(p);
+            let chi = [lo.max(plo), hi.min(phi)]
+                .iter()
+                .map(|&x| base[3] + (x - from) * slope[3])
+                .fold(0.0, f64::max);
+            *slot = SpanCell {
+                q,
+                clip: (count > 1).then_some(Clip {
+                    s,
+                    lo: plo,
+                    hi: phi,
+                }),
+                rays: None,
+                terms: geometry.terms(chi, &q[3])?,
+                brightness: self.brightness,
+            };
+        }
+        out.count = count;
+        Some(())
+    }
+
     /// How many uniform sub-steps the pixel's segment gets, and its length.
     #[inline]
     fn pieces(&self, px: &Pixel) -> (usize, f64) {
@@ -263,68 +328,9 @@ impl Approx for Exact {
         cell: usize,
         geometry: &SpanGeometry,
         _: &mut Scratch,
-    ) -> Option<SpanPieces> {
-        if !self.rule.exact_for_linear || (self.step > 0.0 && geometry.length > self.step) {
-            return None;
-        }
-        let (t, values) = f.transfer_of(cell)?;
-        let v = f.gather(cell, values);
-        if !v.iter().all(|x| x.is_finite()) {
-            return None;
-        }
-        let (lo, hi) = v
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), &x| {
-                (lo.min(x), hi.max(x))
-            });
-        let (first, last) = (t.piece(lo), t.piece(hi));
-        let count = last - first + 1;
-        let s = geometry.rays.affine(&v);
-        // Along every ray the field must run one way through the pieces.
-        let direction = geometry.rate_sign(&s);
-        if count > MAX_PIECES || (count > 1 && direction == 0) {
-            return None;
-        }
-        let mut out = [SpanCell {
-            q: [[0.0; 6]; 4],
-            clip: None,
-            rays: None,
-            terms: 0,
-            brightness: self.brightness,
-        }; MAX_PIECES];
-        for (i, slot) in out.iter_mut().take(count).enumerate() {
-            // Nearest first: where the field grows with depth, the lowest piece is in front.
-            let p = if direction > 0 { first + i } else { last - i };
-            let (from, base, slope) = t.affine_piece(p)?;
-            let q: [[f64; 6]; 4] = std::array::from_fn(|k| {
-                [
-                    base[k] + (s[0] - from) * slope[k],
-                    slope[k] * s[1],
-                    slope[k] * s[2],
-                    slope[k] * s[3],
-                    slope[k] * s[4],
-                    slope[k] * s[5],
-                ]
-            });
-            // χ is affine in the field: largest at an end of the cell's range in this piece.
-            let (plo, phi) = t.piece_range(p);
-            let chi = [lo.max(plo), hi.min(phi)]
-                .iter()
-                .map(|&x| base[3] + (x - from) * slope[3])
-                .fold(0.0, f64::max);
-            *slot = SpanCell {
-                q,
-                clip: (count > 1).then_some(Clip {
-                    s,
-                    lo: plo,
-                    hi: phi,
-                }),
-                rays: None,
-                terms: geometry.terms(chi, &q[3])?,
-                brightness: self.brightness,
-            };
-        }
-        Some(SpanPieces { cells: out, count })
+        out: &mut SpanPieces,
+    ) -> bool {
+        self.span_pieces(f, cell, geometry, out).is_some()
     }
 
     fn prepare(

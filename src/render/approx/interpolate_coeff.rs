@@ -70,25 +70,31 @@ impl Approx for InterpolateCoeff {
         cell: usize,
         geometry: &SpanGeometry,
         s: &mut Scratch,
-    ) -> Option<SpanPieces> {
+        out: &mut SpanPieces,
+    ) -> bool {
         if !self.rule.exact_for_linear {
-            return None;
+            return false;
         }
         let c = node_coefficients(f, cell, s);
         let value = |i: usize, k: usize| if k < 3 { c[i].0[k] } else { c[i].1 };
         if !(0..4).all(|i| (0..4).all(|k| value(i, k).is_finite())) {
-            return None;
+            return false;
         }
         let q: [[f64; 6]; 4] =
             std::array::from_fn(|k| geometry.rays.affine(&std::array::from_fn(|i| value(i, k))));
         let chi = c.iter().map(|n| n.1).fold(0.0, f64::max);
-        Some(SpanPieces::one(SpanCell {
+        let Some(terms) = geometry.terms(chi, &q[3]) else {
+            return false;
+        };
+        out.cells[0] = SpanCell {
             q,
             clip: None,
             rays: None,
-            terms: geometry.terms(chi, &q[3])?,
+            terms,
             brightness: self.brightness,
-        }))
+        };
+        out.count = 1;
+        true
     }
 
     fn prepare(

@@ -88,16 +88,18 @@ pub trait Approx: Sync {
     /// A method that may hand whole cells to the span kernel ([`Approx::span_cell`]).
     const SPAN: bool = false;
     /// For a cell nothing clips: the cell as [`SpanPieces`] (η and χ affine along every segment
-    /// within each piece, integrated by the `linear` rule, thin enough for the lanes); `None` to
-    /// draw the cell pixel by pixel.
+    /// within each piece, integrated by the `linear` rule, thin enough for the lanes), written
+    /// into `out` (the tile's, reused: a cell's pieces are a kilobyte, not worth moving);
+    /// `false` to draw the cell pixel by pixel (`out` then means nothing).
     fn span_cell(
         &self,
         _f: &Frame,
         _cell: usize,
         _geometry: &SpanGeometry,
         _s: &mut Scratch,
-    ) -> Option<SpanPieces> {
-        None
+        _out: &mut SpanPieces,
+    ) -> bool {
+        false
     }
     fn prepare(
         &self,
