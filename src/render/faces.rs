@@ -156,6 +156,13 @@ impl CellFaces {
     ) -> CellFaces {
         let mut faces = [Face::default(); 4];
         let mut kind = [0i8; 4];
+        // The depth values once per node, not once per face and node (a division each for a
+        // perspective view).
+        let z_of = if perspective {
+            depth.map(|d| 1.0 / d)
+        } else {
+            *depth
+        };
         for (f, face) in faces.iter_mut().enumerate() {
             let local = FACE_NODES[f];
             let o = orient_sign(screen[local[0]], screen[local[1]], screen[local[2]]);
@@ -176,13 +183,7 @@ impl CellFaces {
                 }
             }
             face.s = canon.map(|k| screen[k]);
-            face.z = canon.map(|k| {
-                if perspective {
-                    1.0 / depth[k]
-                } else {
-                    depth[k]
-                }
-            });
+            face.z = canon.map(|k| z_of[k]);
             let [a, b, c] = face.s;
             // The exact orientation changes sign with every swap of two points.
             face.orient = if odd { -o } else { o };
