@@ -482,13 +482,7 @@ impl CellFaces {
                 }
                 let [entry, exit] = self.pairs[pattern];
                 if entry != NO_PAIR {
-                    out.runs[out.count] = Run {
-                        x0: x,
-                        x1: next,
-                        entry,
-                        exit,
-                    };
-                    out.count += 1;
+                    out.push(x, next, entry, exit);
                 }
                 x = next;
             }
@@ -503,13 +497,7 @@ impl CellFaces {
                 }
             }
             if let Some((entry, exit)) = self.faces_in_row(row, x) {
-                out.runs[out.count] = Run {
-                    x0: x,
-                    x1: next,
-                    entry,
-                    exit,
-                };
-                out.count += 1;
+                out.push(x, next, entry, exit);
             }
             x = next;
         }
@@ -536,6 +524,17 @@ pub struct RowRuns {
 impl RowRuns {
     pub fn runs(&self) -> &[Run] {
         &self.runs[..self.count]
+    }
+
+    #[inline(always)]
+    fn push(&mut self, x0: usize, x1: usize, entry: u8, exit: u8) {
+        self.runs[self.count] = Run {
+            x0,
+            x1,
+            entry,
+            exit,
+        };
+        self.count += 1;
     }
 }
 
