@@ -240,29 +240,38 @@ impl SpanBuffer {
         // lie beyond `len` (stale lanes), and fixed-length loops become vector instructions.
         self.reserve(len + LANES);
         let px0 = x0 as f64 + 0.5;
+        // The arrays as slices from here on: their addresses stay in registers (through `self`
+        // they were read again after every store).
+        let end = self.n + len.div_ceil(LANES) * LANES;
+        let at = self.n..end;
+        let (slots, xs, ys) = (
+            &mut self.slot[at.clone()],
+            &mut self.x[at.clone()],
+            &mut self.y[at.clone()],
+        );
+        let (nears, fars) = (&mut self.near[at.clone()], &mut self.far[at]);
         let mut k = 0;
         while k < len {
-            let i = self.n + k;
-            let r = i..i + LANES;
-            let slots: &mut [u32; LANES] =
-                (&mut self.slot[i..i + LANES]).try_into().expect("reserved");
-            let mut xs = [0.0; LANES];
+            let r = k..k + LANES;
+            let mut sl = [0u32; LANES];
+            let mut xv = [0.0; LANES];
             let mut ns = [0.0; LANES];
             let mut fs = [0.0; LANES];
             for l in 0..LANES {
                 // Integers and halves: the same value as `(x0 + k + l) as f64 + 0.5`.
                 let px = (px0 + k as f64) + l as f64;
                 let n = near.at_view::<PERSP>(px);
-                slots[l] = (slot + k + l) as u32;
-                xs[l] = px;
+                sl[l] = (slot + k + l) as u32;
+                xv[l] = px;
                 ns[l] = n;
                 // Rounding can put a face crossing ~1e-16 past the other one.
                 fs[l] = far.at_view::<PERSP>(px).max(n);
             }
-            self.x[r.clone()].copy_from_slice(&xs);
-            self.y[r.clone()].fill(py);
-            self.near[r.clone()].copy_from_slice(&ns);
-            self.far[r].copy_from_slice(&fs);
+            slots[r.clone()].copy_from_slice(&sl);
+            xs[r.clone()].copy_from_slice(&xv);
+            ys[r.clone()].fill(py);
+            nears[r.clone()].copy_from_slice(&ns);
+            fars[r].copy_from_slice(&fs);
             k += LANES;
         }
         self.n += len;
