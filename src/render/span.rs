@@ -284,15 +284,22 @@ impl SpanBuffer {
         let len = x1 - x0;
         self.reserve(len + LANES);
         let px0 = x0 as f64 + 0.5;
+        // Through slices taken once (see `push_run_view`).
+        let at = self.n..self.n + len.div_ceil(LANES) * LANES;
+        let (slots, xs, ys) = (
+            &mut self.slot[at.clone()],
+            &mut self.x[at.clone()],
+            &mut self.y[at],
+        );
         let mut k = 0;
         while k < len {
-            let i = self.n + k;
-            for l in 0..LANES {
-                self.slot[i + l] = (slot + k + l) as u32;
-                // Integers and halves: the same value as `(x0 + k + l) as f64 + 0.5`.
-                self.x[i + l] = (px0 + k as f64) + l as f64;
-                self.y[i + l] = py;
-            }
+            let r = k..k + LANES;
+            let sl: [u32; LANES] = std::array::from_fn(|l| (slot + k + l) as u32);
+            // Integers and halves: the same value as `(x0 + k + l) as f64 + 0.5`.
+            let xv: [f64; LANES] = std::array::from_fn(|l| (px0 + k as f64) + l as f64);
+            slots[r.clone()].copy_from_slice(&sl);
+            xs[r.clone()].copy_from_slice(&xv);
+            ys[r].fill(py);
             k += LANES;
         }
         self.n += len;
@@ -643,6 +650,10 @@ fn draw_fan_body<const L: usize>(
         }
     }
     let n = buf.len().div_ceil(L) * L;
+    // Through slices taken once (see `push_run_view`).
+    let (xs, ys) = (&buf.x[..n], &buf.y[..n]);
+    let [r, g, b] = &mut buf.b;
+    let (r, g, b, th) = (&mut r[..n], &mut g[..n], &mut b[..n], &mut buf.theta[..n]);
     let mut i = 0;
     while i < n {
         let lane = |s: &[f64]| -> [f64; L] {
@@ -650,13 +661,17 @@ fn draw_fan_body<const L: usize>(
             a.copy_from_slice(&s[i..i + L]);
             a
         };
-        let v = d.fan.at_lanes::<L>(&lane(&buf.x), &lane(&buf.y));
+        let v = d.fan.at_lanes::<L>(&lane(xs), &lane(ys));
+        let mut out = [[0.0; L]; 4];
         for l in 0..L {
             let (b, theta) = gouraud::shade(d.brightness, [v[0][l], v[1][l], v[2][l], v[3][l]]);
             for ch in 0..3 {
-                buf.b[ch][i + l] = b[ch];
+                out[ch][l] = b[ch];
             }
-            buf.theta[i + l] = theta;
+            out[3][l] = theta;
+        }
+        for (dst, src) in [&mut *r, &mut *g, &mut *b, &mut *th].into_iter().zip(&out) {
+            dst[i..i + L].copy_from_slice(src);
         }
         i += L;
     }
