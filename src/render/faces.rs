@@ -94,9 +94,6 @@ struct Face {
     /// Per edge `pos[k] → pos[k+1]`: shared with another face of the same kind, so it must be
     /// tested (edges on the footprint's outline were decided by its scan conversion).
     inner: [bool; 3],
-    /// Per edge: the cell edge (index into [`EDGE_NODES`]) and whether `pos[k] → pos[k+1]` runs
-    /// against it (from its higher to its lower local node).
-    edge: [(u8, bool); 3],
     /// Not a sliver: the depth value as an affine function of the screen position, from the
     /// canonical first node: `z = plane[0] + plane[1]·(x − s[0].x) + plane[2]·(y − s[0].y)`,
     /// clamped to the face's range `[zmin, zmax]`.
@@ -221,7 +218,6 @@ impl CellFaces {
                 // ones opposite the two other nodes; `f` is one of them (the nodes sum to 6).
                 let other = 6 - f - u - v;
                 faces[f].inner[k] = kind[f] != 0 && kind[other] == kind[f];
-                faces[f].edge[k] = (EDGE_OF[u][v], u > v);
                 if faces[f].inner[k] {
                     // Inside the face means inside u → v: inside the cell edge where u is its
                     // lower node.
@@ -247,11 +243,7 @@ impl CellFaces {
             pairs: [[NO_PAIR; 2]; 8],
         };
         for face in &faces {
-            for k in 0..3 {
-                if face.inner[k] {
-                    out.needed |= 1 << face.edge[k].0;
-                }
-            }
+            out.needed |= face.tested;
         }
         for (f, &k) in kind.iter().enumerate() {
             if k > 0 {
@@ -262,24 +254,27 @@ impl CellFaces {
                 out.exits += 1;
             }
         }
-        if out.needed.count_ones() <= 3 {
-            for e in 0..6 {
-                if out.needed & (1 << e) != 0 {
-                    out.inner[out.inner_count as usize] = e;
-                    out.inner_count += 1;
+        // At most three inner edges: the faces' projected signed areas (exact `orient2d` of
+        // their nodes, outward orientation) sum to zero exactly, so at most three faces are of
+        // one kind and then the fourth is of the other — three faces sharing three edges, or
+        // two and two sharing one edge each.
+        debug_assert!(out.needed.count_ones() <= 3, "{:06b}", out.needed);
+        for e in 0..6 {
+            if out.needed & (1 << e) != 0 && out.inner_count < 3 {
+                out.inner[out.inner_count as usize] = e;
+                out.inner_count += 1;
+            }
+        }
+        for pattern in 0..1usize << out.inner_count {
+            // The pixel's side bits over all six edges (the others are never tested).
+            let mut sides = 0u8;
+            for j in 0..out.inner_count as usize {
+                if pattern & (1 << j) != 0 {
+                    sides |= 1 << out.inner[j];
                 }
             }
-            for pattern in 0..1usize << out.inner_count {
-                // The pixel's side bits over all six edges (the others are never tested).
-                let mut sides = 0u8;
-                for j in 0..out.inner_count as usize {
-                    if pattern & (1 << j) != 0 {
-                        sides |= 1 << out.inner[j];
-                    }
-                }
-                if let Some((entry, exit)) = out.faces_for(sides) {
-                    out.pairs[pattern] = [entry, exit];
-                }
+            if let Some((entry, exit)) = out.faces_for(sides) {
+                out.pairs[pattern] = [entry, exit];
             }
         }
         out
@@ -451,52 +446,36 @@ impl CellFaces {
     #[inline]
     pub fn spans(&self, row: &Row, from: usize, to: usize) -> RowRuns {
         let mut out = RowRuns {
-            runs: [Run::default(); 7],
+            runs: [Run::default(); 4],
             count: 0,
         };
-        if self.needed.count_ones() <= 3 {
-            // The runs end where the (at most three) inner edges split the row: their splits
-            // in order, each run's faces looked up by its first pixel's sides.
-            let n = self.inner_count as usize;
-            let mut at = [to; 3];
-            for j in 0..n {
-                at[j] = row.split[self.inner[j] as usize].clamp(from, to);
-            }
-            let sort = |a: &mut [usize; 3], i: usize, j: usize| {
-                if a[j] < a[i] {
-                    a.swap(i, j);
-                }
-            };
-            sort(&mut at, 0, 1);
-            sort(&mut at, 1, 2);
-            sort(&mut at, 0, 1);
-            let mut x = from;
-            for next in [at[0], at[1], at[2], to] {
-                if next <= x {
-                    continue;
-                }
-                let mut pattern = 0;
-                for j in 0..n {
-                    let e = self.inner[j] as usize;
-                    pattern |= (((x >= row.split[e]) == row.rising[e]) as usize) << j;
-                }
-                let [entry, exit] = self.pairs[pattern];
-                if entry != NO_PAIR {
-                    out.push(x, next, entry, exit);
-                }
-                x = next;
-            }
-            return out;
+        // The runs end where the (at most three) inner edges split the row: their splits
+        // in order, each run's faces looked up by its first pixel's sides.
+        let n = self.inner_count as usize;
+        let mut at = [to; 3];
+        for j in 0..n {
+            at[j] = row.split[self.inner[j] as usize].clamp(from, to);
         }
-        let mut x = from;
-        while x < to {
-            let mut next = to;
-            for e in 0..6 {
-                if self.needed & (1 << e) != 0 && row.split[e] > x && row.split[e] < next {
-                    next = row.split[e];
-                }
+        let sort = |a: &mut [usize; 3], i: usize, j: usize| {
+            if a[j] < a[i] {
+                a.swap(i, j);
             }
-            if let Some((entry, exit)) = self.faces_in_row(row, x) {
+        };
+        sort(&mut at, 0, 1);
+        sort(&mut at, 1, 2);
+        sort(&mut at, 0, 1);
+        let mut x = from;
+        for next in [at[0], at[1], at[2], to] {
+            if next <= x {
+                continue;
+            }
+            let mut pattern = 0;
+            for j in 0..n {
+                let e = self.inner[j] as usize;
+                pattern |= (((x >= row.split[e]) == row.rising[e]) as usize) << j;
+            }
+            let [entry, exit] = self.pairs[pattern];
+            if entry != NO_PAIR {
                 out.push(x, next, entry, exit);
             }
             x = next;
@@ -514,10 +493,10 @@ pub struct Run {
     pub exit: u8,
 }
 
-/// A row's runs ([`CellFaces::spans`]): at most one more than the six cell edges that split it.
+/// A row's runs ([`CellFaces::spans`]): at most one more than the three inner edges that split it.
 #[derive(Debug, Clone, Copy)]
 pub struct RowRuns {
-    runs: [Run; 7],
+    runs: [Run; 4],
     count: usize,
 }
 

@@ -700,6 +700,17 @@ fn render_tile<A: Approx>(
         let nb = &neighbors[cell];
         // Whether a neighbour came before this cell in the compositing order.
         let earlier = |n: u32| n != NO_NEIGHBOR && f.rank[n as usize] < f.rank[cell];
+        // A fragment of this cell for a pixel's runs, entering from neighbour `en` and leaving
+        // to `xn` between depths `near` and `far`.
+        let link = |en: u32, xn: u32, near: f64, far: f64| runs::Link {
+            cell: cell as u32,
+            entry_neighbor: en,
+            exit_neighbor: xn,
+            entry_earlier: earlier(en),
+            exit_earlier: earlier(xn),
+            near,
+            far,
+        };
         let hull = fp.hull();
         // Span kernel: the whole cell's pixels at once.
         if span_frame && unclipped {
@@ -736,15 +747,7 @@ fn render_tile<A: Approx>(
                         for &[first, len, entry, exit] in &b.runs {
                             let (en, xn) = (nb[entry as usize], nb[exit as usize]);
                             for i in first as usize..(first + len) as usize {
-                                let l = runs::Link {
-                                    cell: cell as u32,
-                                    entry_neighbor: en,
-                                    exit_neighbor: xn,
-                                    entry_earlier: earlier(en),
-                                    exit_earlier: earlier(xn),
-                                    near: b.near[i],
-                                    far: b.far[i],
-                                };
+                                let l = link(en, xn, b.near[i], b.far[i]);
                                 let piece = ([b.b[0][i], b.b[1][i], b.b[2][i]], b.theta[i]);
                                 runs.add(b.slot[i] as usize, l, piece);
                             }
@@ -801,16 +804,7 @@ fn render_tile<A: Approx>(
                                 };
                                 fragments += 1;
                                 let (en, xn) = (nb[h.entry_face], nb[h.exit_face]);
-                                let l = runs::Link {
-                                    cell: cell as u32,
-                                    entry_neighbor: en,
-                                    exit_neighbor: xn,
-                                    entry_earlier: earlier(en),
-                                    exit_earlier: earlier(xn),
-                                    near: h.near,
-                                    far: h.far,
-                                };
-                                runs.add(slot, l, piece());
+                                runs.add(slot, link(en, xn, h.near, h.far), piece());
                             }
                         }
                     });
@@ -821,22 +815,13 @@ fn render_tile<A: Approx>(
         }
         // No fan after all (a method without one): per ray, from the faces.
         let faces = if fan_only { cell_faces() } else { faces };
-        let link = |iv: &Interval| {
+        let interval_link = |iv: &Interval| {
             let entry = if faces.is_none() && iv.near <= dmin {
                 NO_NEIGHBOR
             } else {
                 nb[iv.entry_face]
             };
-            let exit = nb[iv.exit_face];
-            runs::Link {
-                cell: cell as u32,
-                entry_neighbor: entry,
-                exit_neighbor: exit,
-                entry_earlier: earlier(entry),
-                exit_earlier: earlier(exit),
-                near: iv.near,
-                far: iv.far,
-            }
+            link(entry, nb[iv.exit_face], iv.near, iv.far)
         };
         // Everything else per ray: over the outline where the method needs no fan triangle.
         let rays = CellRays::new(&ec, &f.projector);
@@ -886,7 +871,7 @@ fn render_tile<A: Approx>(
                 if clipped_away {
                     // Nothing to integrate; a run still passes through the cell.
                     if let Pixels::Runs(runs) = &mut pixels {
-                        runs.add(slot, link(&iv), ([0.0; 3], 1.0));
+                        runs.add(slot, interval_link(&iv), ([0.0; 3], 1.0));
                     }
                     return;
                 }
@@ -913,7 +898,7 @@ fn render_tile<A: Approx>(
                 let piece = method.pixel(f, cell, c, &px, &mut scratch);
                 match &mut pixels {
                     Pixels::Direct(acc) => composite(order, &mut acc[slot], piece),
-                    Pixels::Runs(runs) => runs.add(slot, link(&iv), piece),
+                    Pixels::Runs(runs) => runs.add(slot, interval_link(&iv), piece),
                 }
             };
             let at = |x: usize, y: usize| {

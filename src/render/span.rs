@@ -107,19 +107,17 @@ pub struct SpanPieces {
 impl SpanPieces {
     /// No pieces, to be filled by [`crate::render::approx::Approx::span_cell`].
     pub fn empty() -> SpanPieces {
-        SpanPieces::one(SpanCell {
+        let cell = SpanCell {
             q: [[0.0; 6]; 4],
             rays: None,
             clip: None,
             terms: 0,
             brightness: 0.0,
-        })
-        .with_count(0)
-    }
-
-    fn with_count(mut self, count: usize) -> SpanPieces {
-        self.count = count;
-        self
+        };
+        SpanPieces {
+            cells: [cell; MAX_PIECES],
+            count: 0,
+        }
     }
 
     pub fn one(cell: SpanCell) -> SpanPieces {
