@@ -797,25 +797,23 @@ fn batch<const L: usize, const CLIP: bool, const PERSP: bool, const FMA: bool>(
             far[l] = f.max(n);
         }
     }
-    // The four quantities at both ends.
-    let mut at_far = [[0.0; L]; 4];
-    let mut at_near = [[0.0; L]; 4];
-    for k in 0..4 {
-        for l in 0..L {
-            let base = madd::<FMA>(q[k][2], y[l], madd::<FMA>(q[k][1], x[l], q[k][0]));
-            let rate = if PERSP {
-                madd::<FMA>(q[k][5], y[l], madd::<FMA>(q[k][4], x[l], q[k][3]))
-            } else {
-                q[k][3]
-            };
-            at_far[k][l] = madd::<FMA>(rate, far[l], base);
-            at_near[k][l] = madd::<FMA>(rate, near[l], base);
-        }
-    }
+    // Quantity k (η_r, η_g, η_b, χ) at the far and near end of lane l. The colours are only
+    // needed after the series: computed there, the series' loop is not crowded out of the
+    // registers by 24 values per lane waiting for it (the same expressions, the same bits).
+    let ends = |k: usize, l: usize| {
+        let base = madd::<FMA>(q[k][2], y[l], madd::<FMA>(q[k][1], x[l], q[k][0]));
+        let rate = if PERSP {
+            madd::<FMA>(q[k][5], y[l], madd::<FMA>(q[k][4], x[l], q[k][3]))
+        } else {
+            q[k][3]
+        };
+        (madd::<FMA>(rate, far[l], base), madd::<FMA>(rate, near[l], base))
+    };
     let mut len = [0.0; L];
     let mut c = [0.0; L];
     let mut d = [0.0; L];
     for l in 0..L {
+        let (chi_far, chi_near) = ends(3, l);
         len[l] = far[l] - near[l];
         if PERSP {
             let d = cell.rays.unwrap_or([0.0; 4]);
@@ -823,8 +821,8 @@ fn batch<const L: usize, const CLIP: bool, const PERSP: bool, const FMA: bool>(
             len[l] *= (dx * dx + dy * dy + 1.0).sqrt();
         }
         // Negative absorption (unphysical) counts as none, as in the scalar rule.
-        let a = (at_far[3][l] * len[l]).max(0.0);
-        c[l] = (at_near[3][l] * len[l]).max(0.0);
+        let a = (chi_far * len[l]).max(0.0);
+        c[l] = (chi_near * len[l]).max(0.0);
         d[l] = a - c[l];
     }
     let (j0, j1, th) = moments_with::<L, FMA>(&c, &d, terms);
@@ -832,7 +830,7 @@ fn batch<const L: usize, const CLIP: bool, const PERSP: bool, const FMA: bool>(
     for (k, out) in buf.b.iter_mut().enumerate() {
         let out = &mut out[i..i + L];
         for l in 0..L {
-            let (n, f) = (at_near[k][l], at_far[k][l]);
+            let (f, n) = ends(k, l);
             let b = cell.brightness * (len[l] * madd::<FMA>(n, j0[l], (f - n) * j1[l]));
             // Behind the nearer pieces already there: their transparency dims this one.
             out[l] = if CLIP { out[l] + ot[l] * b } else { b };
