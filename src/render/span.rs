@@ -807,7 +807,10 @@ fn batch<const L: usize, const CLIP: bool, const PERSP: bool, const FMA: bool>(
         } else {
             q[k][3]
         };
-        (madd::<FMA>(rate, far[l], base), madd::<FMA>(rate, near[l], base))
+        (
+            madd::<FMA>(rate, far[l], base),
+            madd::<FMA>(rate, near[l], base),
+        )
     };
     let mut len = [0.0; L];
     let mut c = [0.0; L];
