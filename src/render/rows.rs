@@ -37,6 +37,9 @@ pub struct CellRows {
     /// it (`before`).
     after: u8,
     before: u8,
+    /// `after` and `before` as masks per edge: all ones where set, for branch-free rows.
+    after_mask: [usize; 6],
+    before_mask: [usize; 6],
     /// Pixel centres of the outline's bounding box within the tile.
     x0: usize,
     x1: usize,
@@ -81,6 +84,8 @@ impl CellRows {
             needed: inner,
             after: 0,
             before: 0,
+            after_mask: [0; 6],
+            before_mask: [0; 6],
             x0: 0,
             x1: 0,
             y0: 0,
@@ -116,6 +121,18 @@ impl CellRows {
                 rows.before |= 1 << e;
             }
         }
+        for e in 0..6 {
+            rows.after_mask[e] = if rows.after & (1 << e) != 0 {
+                usize::MAX
+            } else {
+                0
+            };
+            rows.before_mask[e] = if rows.before & (1 << e) != 0 {
+                usize::MAX
+            } else {
+                0
+            };
+        }
         // Pixel centres within the outline's bounding box, as the scan conversion takes them.
         if let Some([x0, x1, y0, y1]) = pixel_box(hull, rect) {
             (rows.x0, rows.x1, rows.y0, rows.y1) = (x0, x1, y0, y1);
@@ -136,8 +153,8 @@ impl CellRows {
         let (x0, x1) = (self.x0 as f64, self.x1 as f64);
         let mut root = [0.0; EDGES];
         let mut margin = [0.0; EDGES];
-        let mut split = [0.0; EDGES];
-        let mut sure = [false; EDGES];
+        let mut at = [0usize; EDGES];
+        let mut unsure = 0u8;
         for e in 0..EDGES {
             let t = (py - self.uy[e]) * self.inv[e];
             let r = self.ux[e] + t;
@@ -148,34 +165,36 @@ impl CellRows {
             margin[e] = m;
             // No pixel centre within the margin: every centre's side is certain.
             // (`&`, not `&&`: no branches, so the loop runs in vector registers.)
-            sure[e] = r.is_finite() & (r - (first - 0.5) > m) & ((first + 0.5) - r > m);
-            split[e] = first.max(x0).min(x1);
+            let sure = r.is_finite() & (r - (first - 0.5) > m) & ((first + 0.5) - r > m);
+            unsure |= (!sure as u8) << e;
+            // A whole number in [x0, x1] (max/min drop a NaN), below 2³¹: its value is the low
+            // bits of its sum with 2⁵² — a vector addition instead of a saturating conversion.
+            let split = first.max(x0).min(x1);
+            at[e] = ((split + TWO_52).to_bits() as u32) as usize;
         }
-        let mut at = [0usize; 6];
-        for e in 0..6 {
-            if self.needed & (1 << e) == 0 {
-                continue;
-            }
-            at[e] = if sure[e] {
-                split[e] as usize
-            } else {
-                let [u, v] = self.ends[e];
-                let test = |x: usize| inside(u, v, [x as f64 + 0.5, py]);
-                boundary(test, root[e], margin[e], u[1] - v[1], self.x0, self.x1)
-            };
+        // The edges whose estimate left a pixel centre in doubt: the exact predicate (rare).
+        let mut doubt = unsure & self.needed;
+        while doubt != 0 {
+            let e = doubt.trailing_zeros() as usize;
+            doubt &= doubt - 1;
+            let [u, v] = self.ends[e];
+            let test = |x: usize| inside(u, v, [x as f64 + 0.5, py]);
+            at[e] = boundary(test, root[e], margin[e], u[1] - v[1], self.x0, self.x1);
         }
+        // Without branches: the outline's edges bound the row from the left (`after`) or the
+        // right (`before`); masks of all ones or zeros pick them.
         let (mut from, mut to) = (self.x0, self.x1);
         for e in 0..6 {
-            if self.after & (1 << e) != 0 {
-                from = from.max(at[e]);
-            }
-            if self.before & (1 << e) != 0 {
-                to = to.min(at[e]);
-            }
+            from = from.max(at[e] & self.after_mask[e]);
+            to = to.min(at[e] | !self.before_mask[e]);
         }
-        (from < to).then(|| (from, to, Row::new(at, self.rising)))
+        let at6 = [at[0], at[1], at[2], at[3], at[4], at[5]];
+        (from < to).then(|| (from, to, Row::new(at6, self.rising)))
     }
 }
+
+/// 2⁵²: a whole number `0 ≤ v < 2³¹` is the low 32 bits of `v + 2⁵²` (see [`CellRows::row`]).
+const TWO_52: f64 = 4_503_599_627_370_496.0;
 
 #[cfg(test)]
 mod tests {

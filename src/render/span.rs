@@ -205,9 +205,10 @@ impl SpanBuffer {
     }
 
     /// Pixels `x0..x1` of the row at screen y = `py`, the first in tile slot `slot`, with entry
-    /// and exit depths from the faces' rows `near` and `far`. One pass writes every array.
+    /// and exit depths from the faces' rows `near` and `far`, `P` (≤ [`LANES`]) at a time. One
+    /// pass writes every array.
     #[inline(always)]
-    pub fn push_run(
+    pub fn push_run<const P: usize>(
         &mut self,
         slot: usize,
         x0: usize,
@@ -216,15 +217,16 @@ impl SpanBuffer {
         near: DepthRow,
         far: DepthRow,
     ) {
+        const { assert!(P <= LANES) };
         if near.perspective() {
-            self.push_run_view::<true>(slot, x0, x1, py, near, far)
+            self.push_run_view::<true, P>(slot, x0, x1, py, near, far)
         } else {
-            self.push_run_view::<false>(slot, x0, x1, py, near, far)
+            self.push_run_view::<false, P>(slot, x0, x1, py, near, far)
         }
     }
 
     #[inline(always)]
-    fn push_run_view<const PERSP: bool>(
+    fn push_run_view<const PERSP: bool, const P: usize>(
         &mut self,
         slot: usize,
         x0: usize,
@@ -234,13 +236,15 @@ impl SpanBuffer {
         far: DepthRow,
     ) {
         let len = x1 - x0;
-        // Whole batches of eight: the writes past the run are overwritten by the next run or
-        // lie beyond `len` (stale lanes), and fixed-length loops become vector instructions.
+        // Whole batches of `P` (≤ `LANES`, one vector register: 4 on AVX2, where runs of about
+        // five pixels made most of a batch of eight wasted): the writes past the run are
+        // overwritten by the next run or lie beyond `len` (stale lanes), and fixed-length loops
+        // become vector instructions.
         self.reserve(len + LANES);
         let px0 = x0 as f64 + 0.5;
         // The arrays as slices from here on: their addresses stay in registers (through `self`
         // they were read again after every store).
-        let end = self.n + len.div_ceil(LANES) * LANES;
+        let end = self.n + len.div_ceil(P) * P;
         let at = self.n..end;
         let (slots, xs, ys) = (
             &mut self.slot[at.clone()],
@@ -250,12 +254,12 @@ impl SpanBuffer {
         let (nears, fars) = (&mut self.near[at.clone()], &mut self.far[at]);
         let mut k = 0;
         while k < len {
-            let r = k..k + LANES;
-            let mut sl = [0u32; LANES];
-            let mut xv = [0.0; LANES];
-            let mut ns = [0.0; LANES];
-            let mut fs = [0.0; LANES];
-            for l in 0..LANES {
+            let r = k..k + P;
+            let mut sl = [0u32; P];
+            let mut xv = [0.0; P];
+            let mut ns = [0.0; P];
+            let mut fs = [0.0; P];
+            for l in 0..P {
                 // Integers and halves: the same value as `(x0 + k + l) as f64 + 0.5`.
                 let px = (px0 + k as f64) + l as f64;
                 let n = near.at_view::<PERSP>(px);
@@ -270,7 +274,7 @@ impl SpanBuffer {
             ys[r.clone()].fill(py);
             nears[r.clone()].copy_from_slice(&ns);
             fars[r].copy_from_slice(&fs);
-            k += LANES;
+            k += P;
         }
         self.n += len;
     }
@@ -411,15 +415,16 @@ fn draw_with(
         Kernel::Avx2 if supported(k) => unsafe { draw_avx2(&d, buf, acc) },
         #[cfg(target_arch = "x86_64")]
         Kernel::Avx512 if supported(k) => unsafe { draw_avx512(&d, buf, acc) },
-        _ => draw_body::<LANES, false>(&d, buf, acc),
+        _ => draw_body::<LANES, false, LANES>(&d, buf, acc),
     }
 }
 
-/// The runs of row `y`, pixels `from..to` (splits in `row`), into the buffer with their depths;
-/// with `record_runs`, each run's first pixel, length and faces into `buf.runs` too.
+/// The runs of row `y`, pixels `from..to` (splits in `row`), into the buffer with their depths,
+/// in batches of `P` pixels ([`SpanBuffer::push_run`]); with `record_runs`, each run's first
+/// pixel, length and faces into `buf.runs` too.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn push_row(
+fn push_row<const P: usize>(
     buf: &mut SpanBuffer,
     cf: &CellFaces,
     rect: Rect,
@@ -443,7 +448,7 @@ fn push_row(
             ]);
         }
         match (cf.depth_row(entry, py), cf.depth_row(exit, py)) {
-            (Some(n), Some(f)) => buf.push_run(slot, run.x0, run.x1, py, n, f),
+            (Some(n), Some(f)) => buf.push_run::<P>(slot, run.x0, run.x1, py, n, f),
             _ => buf.push_run_slivers(slot, run.x0, run.x1, py, cf, entry, exit),
         }
     }
@@ -462,17 +467,17 @@ struct Draw<'a> {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn draw_avx2(d: &Draw, buf: &mut SpanBuffer, acc: Option<&mut [([f64; 3], f64)]>) -> u64 {
-    draw_body::<16, true>(d, buf, acc)
+    draw_body::<16, true, 4>(d, buf, acc)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f,fma")]
 fn draw_avx512(d: &Draw, buf: &mut SpanBuffer, acc: Option<&mut [([f64; 3], f64)]>) -> u64 {
-    draw_body::<32, true>(d, buf, acc)
+    draw_body::<32, true, 8>(d, buf, acc)
 }
 
 #[inline(always)]
-fn draw_body<const WIDE: usize, const FMA: bool>(
+fn draw_body<const WIDE: usize, const FMA: bool, const P: usize>(
     d: &Draw,
     buf: &mut SpanBuffer,
     acc: Option<&mut [([f64; 3], f64)]>,
@@ -484,7 +489,7 @@ fn draw_body<const WIDE: usize, const FMA: bool>(
     if let Some(rows) = CellRows::new(d.screen, d.hull, cf.needed(), rect) {
         for y in rows.ys() {
             if let Some((from, to, row)) = rows.row(y) {
-                push_row(buf, cf, rect, y, from, to, &row, record);
+                push_row::<P>(buf, cf, rect, y, from, to, &row, record);
             }
         }
     } else {
@@ -495,7 +500,7 @@ fn draw_body<const WIDE: usize, const FMA: bool>(
         for i in 0..buf.rows.len() {
             let [y, from, to] = buf.rows[i];
             let row = cf.row(y, from, to);
-            push_row(buf, cf, rect, y, from, to, &row, record);
+            push_row::<P>(buf, cf, rect, y, from, to, &row, record);
         }
     }
     if d.pieces.count > 1 {
