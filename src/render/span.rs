@@ -530,7 +530,14 @@ fn composite_all(buf: &SpanBuffer, acc: &mut [([f64; 3], f64)], order: Order) ->
     if order == Order::BackToFront {
         for i in 0..n {
             let a = &mut acc[slots[i] as usize];
-            composite(order, a, ([r[i], g[i], b[i]], theta[i]));
+            let t = theta[i];
+            // [`composite`] back to front, as one operation on the pixel's four numbers: the
+            // transparency gains `+ 0`, which changes no value (it is never −0: θ ≥ 0), so that
+            // all four lanes do the same product and sum (the same bits as channel by channel).
+            let v = [r[i], g[i], b[i], 0.0];
+            let p = [a.0[0], a.0[1], a.0[2], a.1];
+            let out: [f64; 4] = std::array::from_fn(|k| p[k] * t + v[k]);
+            *a = ([out[0], out[1], out[2]], out[3]);
         }
         n as u64
     } else {
