@@ -587,6 +587,20 @@ pub(crate) fn composite(order: Order, a: &mut ([f64; 3], f64), (b, theta): ([f64
     a.1 *= theta;
 }
 
+/// Asks the processor to bring `value` into the first-level cache: a hint, it reads nothing.
+#[inline(always)]
+fn prefetch<T>(value: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch reads nothing and cannot fault; the address is of a live reference.
+    unsafe {
+        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
+            (value as *const T).cast::<i8>(),
+        )
+    };
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = value;
+}
+
 /// Pixels whose runs overlap along the ray, and example pairs of cells.
 type Overlaps = (usize, Vec<(u32, u32)>);
 
@@ -664,7 +678,24 @@ fn render_tile<A: Approx>(
     let tets = f.vol.mesh.tets();
     let neighbors = f.vol.mesh.neighbors();
     let perspective = f.projector.is_perspective();
-    for &cell in list {
+    let field: &[f64] = f.transfer.as_ref().map_or(&[], |t| &t.node_values);
+    for (i, &cell) in list.iter().enumerate() {
+        // The cells come in visibility order, scattered over the mesh: ask for the data of the
+        // cells a few places ahead while this one is drawn (a hint, no value changes).
+        if let Some(&later) = list.get(i + 8) {
+            prefetch(&tets[later as usize]);
+            prefetch(&neighbors[later as usize]);
+        }
+        if let Some(&next) = list.get(i + 4) {
+            for n in tets[next as usize] {
+                let n = n as usize;
+                prefetch(&f.eye_nodes[n]);
+                prefetch(&f.screen[n]);
+                if let Some(v) = field.get(n) {
+                    prefetch(v);
+                }
+            }
+        }
         let cell = cell as usize;
         let eye = f.eye_corners(cell);
         let Some(ec) = EyeCell::new(&eye) else {
