@@ -399,7 +399,17 @@ pub fn render_watched(
         .map(|cs| {
             let mut lists = vec![Vec::new(); tx * ty];
             let mut drawn = 0;
-            for &c in cs {
+            let tets = frame.vol.mesh.tets();
+            for (i, &c) in cs.iter().enumerate() {
+                // As in the tile loop: the visibility order is scattered over the mesh.
+                if let Some(&later) = cs.get(i + 8) {
+                    prefetch(&tets[later as usize]);
+                }
+                if let Some(&next) = cs.get(i + 4) {
+                    for n in tets[next as usize] {
+                        prefetch(&frame.screen[n as usize]);
+                    }
+                }
                 if let Some(r) = tile_range(&frame, c as usize, tile, tx, ty) {
                     drawn += 1;
                     for y in r[1]..=r[3] {
