@@ -534,6 +534,8 @@ fn composite_all(buf: &SpanBuffer, acc: &mut [([f64; 3], f64)], order: Order) ->
             // [`composite`] back to front, as one operation on the pixel's four numbers: the
             // transparency gains `+ 0`, which changes no value (it is never −0: θ ≥ 0), so that
             // all four lanes do the same product and sum (the same bits as channel by channel).
+            // Here, not in `composite` itself: there it made `interpolateColor` 27 % slower
+            // (150k, one thread, 3 alternating runs: median frame 345 → 439 ms).
             let v = [r[i], g[i], b[i], 0.0];
             let p = [a.0[0], a.0[1], a.0[2], a.1];
             let out: [f64; 4] = std::array::from_fn(|k| p[k] * t + v[k]);
