@@ -158,10 +158,10 @@ fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {
                 }
             }
             let _ = writeln!(s, "{line}");
-            if let (Some(v), [(lo, hi)]) = (vol, parts[2].as_slice()) {
-                if let Some(line) = first_picture(v, &format!("abs({i})"), *lo, *hi) {
-                    let _ = writeln!(s, "     try   {line}");
-                }
+            if let (Some(v), [(lo, hi)]) = (vol, parts[2].as_slice())
+                && let Some(line) = first_picture(v, &format!("abs({i})"), *lo, *hi)
+            {
+                let _ = writeln!(s, "     try   {line}");
             }
         } else if let Some(range) = vol.and_then(|v| v.field_range(i)) {
             let parts: Vec<String> = range
@@ -169,10 +169,10 @@ fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {
                 .map(|(a, b)| format!("[{}, {}]", num(*a), num(*b)))
                 .collect();
             let _ = writeln!(s, "     range {}", parts.join(" "));
-            if let (Some(v), [(lo, hi)]) = (vol, range.as_slice()) {
-                if let Some(line) = first_picture(v, &i.to_string(), *lo, *hi) {
-                    let _ = writeln!(s, "     try   {line}");
-                }
+            if let (Some(v), [(lo, hi)]) = (vol, range.as_slice())
+                && let Some(line) = first_picture(v, &i.to_string(), *lo, *hi)
+            {
+                let _ = writeln!(s, "     try   {line}");
             }
         }
     }

@@ -258,14 +258,14 @@ impl Volume {
             }
         }
         if append {
-            if let (Some(a), Some(b)) = (&self.data.materials, &data.materials) {
-                if a != b {
-                    return Err(ParseError::new(
-                        name,
-                        1,
-                        "its Materials block differs from the loaded volume's; 'data +' cannot merge two different material tables",
-                    ));
-                }
+            if let (Some(a), Some(b)) = (&self.data.materials, &data.materials)
+                && a != b
+            {
+                return Err(ParseError::new(
+                    name,
+                    1,
+                    "its Materials block differs from the loaded volume's; 'data +' cannot merge two different material tables",
+                ));
             }
             let offset = self.data.raw.len();
             for f in &mut data.fields {

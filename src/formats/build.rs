@@ -451,17 +451,17 @@ fn check_array(source: &str, a: &super::Array, want: usize, what: &str) -> Resul
             ),
         ));
     }
-    if let ArrayValues::Int(v) = &a.values {
-        if let Some(x) = v.iter().find(|x| x.unsigned_abs() > 1 << 53) {
-            return Err(ParseError::new(
-                source,
-                a.line.max(1),
-                format!(
-                    "array \"{}\": the integer {x} is too large to be a field value (at most ±2^53)",
-                    a.name
-                ),
-            ));
-        }
+    if let ArrayValues::Int(v) = &a.values
+        && let Some(x) = v.iter().find(|x| x.unsigned_abs() > 1 << 53)
+    {
+        return Err(ParseError::new(
+            source,
+            a.line.max(1),
+            format!(
+                "array \"{}\": the integer {x} is too large to be a field value (at most ±2^53)",
+                a.name
+            ),
+        ));
     }
     Ok(())
 }

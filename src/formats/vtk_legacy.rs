@@ -433,17 +433,17 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                 format!("cell {}: type {t} is not a VTK cell type", i + 1),
             ));
         }
-        if super::cell_type::volume_nodes(t as u8).is_some() {
-            if let Some(&bad) = nodes.iter().find(|&&n| n < 0 || n >= n_nodes) {
-                return Err(ParseError::new(
-                    name,
-                    line,
-                    format!(
-                        "cell {} refers to point {bad}, but there are {n_nodes} points (0-based)",
-                        i + 1
-                    ),
-                ));
-            }
+        if super::cell_type::volume_nodes(t as u8).is_some()
+            && let Some(&bad) = nodes.iter().find(|&&n| n < 0 || n >= n_nodes)
+        {
+            return Err(ParseError::new(
+                name,
+                line,
+                format!(
+                    "cell {} refers to point {bad}, but there are {n_nodes} points (0-based)",
+                    i + 1
+                ),
+            ));
         }
         let nodes: Vec<u64> = nodes.iter().map(|&n| n.max(0) as u64).collect();
         desc.cells.push(t as u8, &nodes);

@@ -626,19 +626,19 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
                         ),
                     ));
                 }
-                if let Some(need) = cell_type::volume_nodes(t as u8) {
-                    if (o - prev) as usize != need {
-                        return Err(ParseError::new(
-                            name,
-                            off_d.line,
-                            format!(
-                                "offsets: cell {} is a {} (type {t}) and needs {need} nodes, but its offsets give it {}",
-                                i + 1,
-                                cell_type::name(t as u8),
-                                o - prev
-                            ),
-                        ));
-                    }
+                if let Some(need) = cell_type::volume_nodes(t as u8)
+                    && (o - prev) as usize != need
+                {
+                    return Err(ParseError::new(
+                        name,
+                        off_d.line,
+                        format!(
+                            "offsets: cell {} is a {} (type {t}) and needs {need} nodes, but its offsets give it {}",
+                            i + 1,
+                            cell_type::name(t as u8),
+                            o - prev
+                        ),
+                    ));
                 }
                 desc.cells.types.push(t as u8);
                 desc.cells.offsets.push(conn_base + o as usize);
@@ -1291,7 +1291,7 @@ fn split_base64(text: &[u8], header_bytes: usize) -> Result<(Vec<u8>, Vec<u8>), 
             text.len()
         ));
     }
-    if header_bytes % 3 == 0 || text[c - 1] == b'=' {
+    if header_bytes.is_multiple_of(3) || text[c - 1] == b'=' {
         let header = b64_decode(&text[..c], "header")?;
         let data = b64_decode(&text[c..], "data")?;
         Ok((header, data))
@@ -1352,10 +1352,10 @@ fn block_layout(s: &Settings, h: &[u8], nblocks: usize, want: usize) -> Result<B
         ));
     }
     let mut sizes = vec![bs as usize; nblocks];
-    if let Some(l) = sizes.last_mut() {
-        if last != 0 {
-            *l = last as usize;
-        }
+    if let Some(l) = sizes.last_mut()
+        && last != 0
+    {
+        *l = last as usize;
     }
     let total: usize = sizes.iter().fold(0usize, |a, &b| a.saturating_add(b));
     if total > s.limit {
@@ -1544,13 +1544,13 @@ fn decompress(c: Compressor, src: &[u8], size: usize, out: &mut Vec<u8>) -> Resu
         Compressor::Lz4 => Some(260),
         _ => None,
     };
-    if let Some(r) = ratio {
-        if size > src.len().saturating_mul(r).saturating_add(64) {
-            return Err(format!(
-                "{} compressed bytes cannot hold the {size} bytes the header declares",
-                src.len()
-            ));
-        }
+    if let Some(r) = ratio
+        && size > src.len().saturating_mul(r).saturating_add(64)
+    {
+        return Err(format!(
+            "{} compressed bytes cannot hold the {size} bytes the header declares",
+            src.len()
+        ));
     }
     match c {
         Compressor::None => out.extend_from_slice(src),

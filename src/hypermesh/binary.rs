@@ -32,10 +32,10 @@ pub fn read_block<R: BufRead>(
             ),
         )
     };
-    if let Some(rem) = input.remaining() {
-        if bytes > rem {
-            return Err(truncated(rem));
-        }
+    if let Some(rem) = input.remaining()
+        && bytes > rem
+    {
+        return Err(truncated(rem));
     }
     let numbers = numbers as usize;
     let bound = input.remaining().map_or(CHUNK, |r| r as usize / size);

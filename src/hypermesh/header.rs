@@ -409,17 +409,17 @@ fn check_declarations(file: &str, h: &Header) -> Result<(), ParseError> {
                 ),
             ));
         }
-        if !matches!(b.target, Target::Data(_)) {
-            if let Some(first) = targets.insert(b.target, b.line) {
-                return Err(ParseError::new(
-                    file,
-                    b.line,
-                    format!(
-                        "{} is declared twice (first on line {first})",
-                        b.target.describe()
-                    ),
-                ));
-            }
+        if !matches!(b.target, Target::Data(_))
+            && let Some(first) = targets.insert(b.target, b.line)
+        {
+            return Err(ParseError::new(
+                file,
+                b.line,
+                format!(
+                    "{} is declared twice (first on line {first})",
+                    b.target.describe()
+                ),
+            ));
         }
     }
     for (word, line) in &h.nulls {
@@ -685,11 +685,10 @@ impl Cursor<'_> {
             kind: TokKind::Str(s),
             line: l,
         }) = self.peek()
+            && *l == line
         {
-            if *l == line {
-                name = Some(s.clone());
-                self.pos += 1;
-            }
+            name = Some(s.clone());
+            self.pos += 1;
         }
         let (ty, denominator) = self.braced_type(line)?;
         self.expect_punct(b'=', line, "'=' after the field type")?;

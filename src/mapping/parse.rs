@@ -426,12 +426,12 @@ fn method_options(
             }
         }
     }
-    if let (Some(f), Some(t)) = (from, to) {
-        if f >= t {
-            return Err(err(format!(
-                "{name}: the category interval [from:{f}, to:{t}) is empty: from must be less than to"
-            )));
-        }
+    if let (Some(f), Some(t)) = (from, to)
+        && f >= t
+    {
+        return Err(err(format!(
+            "{name}: the category interval [from:{f}, to:{t}) is empty: from must be less than to"
+        )));
     }
     let interval = (from.is_some() || to.is_some()).then_some(Interval { from, to });
     Ok(PendingLine {

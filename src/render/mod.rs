@@ -754,105 +754,107 @@ fn render_tile<A: Approx>(
         };
         let hull = fp.hull();
         // Span kernel: the whole cell's pixels at once.
-        if span_frame && unclipped {
-            if let (Some((v, count)), Some(cf)) = (hull, &faces) {
-                let geometry = span::SpanGeometry {
-                    rays: CellRays::new(&ec, &f.projector),
-                    extent: hi - lo,
-                    length: (hi - lo) * ray_planes.max_speed,
-                    screen,
+        if span_frame
+            && unclipped
+            && let (Some((v, count)), Some(cf)) = (hull, &faces)
+        {
+            let geometry = span::SpanGeometry {
+                rays: CellRays::new(&ec, &f.projector),
+                extent: hi - lo,
+                length: (hi - lo) * ray_planes.max_speed,
+                screen,
+            };
+            if method.span_cell(f, cell, &geometry, &mut scratch, &mut span_pieces) {
+                let sc = &mut span_pieces;
+                for piece in &mut sc.cells[..sc.count] {
+                    piece.rays = ray_dirs;
+                }
+                let acc = match &mut pixels {
+                    Pixels::Direct(acc) => Some(&mut acc[..]),
+                    Pixels::Runs(_) => None,
                 };
-                if method.span_cell(f, cell, &geometry, &mut scratch, &mut span_pieces) {
-                    let sc = &mut span_pieces;
-                    for piece in &mut sc.cells[..sc.count] {
-                        piece.rays = ray_dirs;
+                let drawn = span::draw(
+                    sc,
+                    &screen,
+                    &v[..count],
+                    cf,
+                    rect,
+                    &mut span_buf,
+                    acc,
+                    order,
+                );
+                if let Pixels::Runs(runs) = &mut pixels {
+                    // Each pixel's fragment chained through the faces its run enters and
+                    // leaves by, as on the per-pixel path below.
+                    let b = &span_buf;
+                    for &[first, len, entry, exit] in &b.runs {
+                        let (en, xn) = (nb[entry as usize], nb[exit as usize]);
+                        for i in first as usize..(first + len) as usize {
+                            let l = link(en, xn, b.near[i], b.far[i]);
+                            let piece = ([b.b[0][i], b.b[1][i], b.b[2][i]], b.theta[i]);
+                            runs.add(b.slot[i] as usize, l, piece);
+                        }
                     }
-                    let acc = match &mut pixels {
-                        Pixels::Direct(acc) => Some(&mut acc[..]),
-                        Pixels::Runs(_) => None,
-                    };
-                    let drawn = span::draw(
-                        sc,
+                }
+                fragments += drawn;
+                lane_fragments += drawn;
+                continue;
+            }
+        }
+        let mut prepared: Option<A::Cell> = None;
+        // Screen-space methods on unclipped cells: Gouraud shading over the outline.
+        if A::SCREEN_SPACE
+            && unclipped
+            && let Some((v, count)) = hull
+        {
+            let c = method.prepare(f, cell, &ec, &fp, &mut scratch);
+            if let Some(fan) = method
+                .fan_values(&c)
+                .and_then(|values| Fan::new(&fp, &values))
+            {
+                if let (Some(brightness), true, Pixels::Direct(acc)) =
+                    (method.gouraud_brightness(), f.span_kernels, &mut pixels)
+                {
+                    let drawn = span::draw_fan(
+                        &fan,
+                        brightness,
                         &screen,
                         &v[..count],
-                        cf,
                         rect,
                         &mut span_buf,
                         acc,
                         order,
                     );
-                    if let Pixels::Runs(runs) = &mut pixels {
-                        // Each pixel's fragment chained through the faces its run enters and
-                        // leaves by, as on the per-pixel path below.
-                        let b = &span_buf;
-                        for &[first, len, entry, exit] in &b.runs {
-                            let (en, xn) = (nb[entry as usize], nb[exit as usize]);
-                            for i in first as usize..(first + len) as usize {
-                                let l = link(en, xn, b.near[i], b.far[i]);
-                                let piece = ([b.b[0][i], b.b[1][i], b.b[2][i]], b.theta[i]);
-                                runs.add(b.slot[i] as usize, l, piece);
-                            }
-                        }
-                    }
                     fragments += drawn;
                     lane_fragments += drawn;
                     continue;
                 }
-            }
-        }
-        let mut prepared: Option<A::Cell> = None;
-        // Screen-space methods on unclipped cells: Gouraud shading over the outline.
-        if A::SCREEN_SPACE && unclipped {
-            if let Some((v, count)) = hull {
-                let c = method.prepare(f, cell, &ec, &fp, &mut scratch);
-                if let Some(fan) = method
-                    .fan_values(&c)
-                    .and_then(|values| Fan::new(&fp, &values))
-                {
-                    if let (Some(brightness), true, Pixels::Direct(acc)) =
-                        (method.gouraud_brightness(), f.span_kernels, &mut pixels)
-                    {
-                        let drawn = span::draw_fan(
-                            &fan,
-                            brightness,
-                            &screen,
-                            &v[..count],
-                            rect,
-                            &mut span_buf,
-                            acc,
-                            order,
-                        );
-                        fragments += drawn;
-                        lane_fragments += drawn;
-                        continue;
-                    }
-                    rasterize_convex(&v[..count], rect, |x, y| {
-                        let slot = (y - rect.y0) * tw + (x - rect.x0);
-                        let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
-                        let piece = || method.screen_pixel(fan.at(px, py));
-                        match &mut pixels {
-                            Pixels::Direct(acc) => {
-                                let a = &mut acc[slot];
-                                if order == Order::FrontToBack && a.1 < EARLY_TERMINATION {
-                                    return;
-                                }
-                                fragments += 1;
-                                composite(order, a, piece());
+                rasterize_convex(&v[..count], rect, |x, y| {
+                    let slot = (y - rect.y0) * tw + (x - rect.x0);
+                    let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+                    let piece = || method.screen_pixel(fan.at(px, py));
+                    match &mut pixels {
+                        Pixels::Direct(acc) => {
+                            let a = &mut acc[slot];
+                            if order == Order::FrontToBack && a.1 < EARLY_TERMINATION {
+                                return;
                             }
-                            Pixels::Runs(runs) => {
-                                let Some(h) = faces.as_ref().and_then(|c| c.hit(px, py)) else {
-                                    return;
-                                };
-                                fragments += 1;
-                                let (en, xn) = (nb[h.entry_face], nb[h.exit_face]);
-                                runs.add(slot, link(en, xn, h.near, h.far), piece());
-                            }
+                            fragments += 1;
+                            composite(order, a, piece());
                         }
-                    });
-                    continue;
-                }
-                prepared = Some(c);
+                        Pixels::Runs(runs) => {
+                            let Some(h) = faces.as_ref().and_then(|c| c.hit(px, py)) else {
+                                return;
+                            };
+                            fragments += 1;
+                            let (en, xn) = (nb[h.entry_face], nb[h.exit_face]);
+                            runs.add(slot, link(en, xn, h.near, h.far), piece());
+                        }
+                    }
+                });
+                continue;
             }
+            prepared = Some(c);
         }
         // No fan after all (a method without one): per ray, from the faces.
         let faces = if fan_only { cell_faces() } else { faces };
@@ -872,10 +874,11 @@ fn render_tile<A: Approx>(
             let corners = fp.corners[k];
             let mut draw = |x: usize, y: usize, weights: [f64; 3], hit: Option<FaceHit>| {
                 let slot = (y - rect.y0) * tw + (x - rect.x0);
-                if let Pixels::Direct(acc) = &pixels {
-                    if order == Order::FrontToBack && acc[slot].1 < EARLY_TERMINATION {
-                        return;
-                    }
+                if let Pixels::Direct(acc) = &pixels
+                    && order == Order::FrontToBack
+                    && acc[slot].1 < EARLY_TERMINATION
+                {
+                    return;
                 }
                 let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
                 let iv = match (&faces, hit) {

@@ -611,7 +611,7 @@ fn draw_fan_with(
         Kernel::Avx2 if supported(k) => unsafe { draw_fan_avx2(&d, buf, acc) },
         #[cfg(target_arch = "x86_64")]
         Kernel::Avx512 if supported(k) => unsafe { draw_fan_avx512(&d, buf, acc) },
-        _ => draw_fan_body::<LANES>(&d, buf, acc),
+        _ => draw_fan_body::<LANES, { FanShade::Lanes as u8 }>(&d, buf, acc),
     }
 }
 
@@ -628,17 +628,30 @@ struct FanDraw<'a> {
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2")]
 fn draw_fan_avx2(d: &FanDraw, buf: &mut SpanBuffer, acc: &mut [([f64; 3], f64)]) -> u64 {
-    draw_fan_body::<LANES>(d, buf, acc)
+    draw_fan_body::<LANES, { FanShade::Avx2 as u8 }>(d, buf, acc)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 fn draw_fan_avx512(d: &FanDraw, buf: &mut SpanBuffer, acc: &mut [([f64; 3], f64)]) -> u64 {
-    draw_fan_body::<LANES>(d, buf, acc)
+    draw_fan_body::<LANES, { FanShade::Avx512 as u8 }>(d, buf, acc)
 }
 
+/// How [`draw_fan_body`] shades: [`Fan::at_lanes`] (any target), or the fan's intrinsics,
+/// only from the function compiled with their features.
+#[derive(Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+enum FanShade {
+    Lanes,
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+    Avx2,
+    #[cfg_attr(not(target_arch = "x86_64"), allow(dead_code))]
+    Avx512,
+}
+
+/// `SHADE`: a [`FanShade`].
 #[inline(always)]
-fn draw_fan_body<const L: usize>(
+fn draw_fan_body<const L: usize, const SHADE: u8>(
     d: &FanDraw,
     buf: &mut SpanBuffer,
     acc: &mut [([f64; 3], f64)],
@@ -666,6 +679,19 @@ fn draw_fan_body<const L: usize>(
     let (xs, ys) = (&buf.x[..n], &buf.y[..n]);
     let [r, g, b] = &mut buf.b;
     let (r, g, b, th) = (&mut r[..n], &mut g[..n], &mut b[..n], &mut buf.theta[..n]);
+    #[cfg(target_arch = "x86_64")]
+    if SHADE != FanShade::Lanes as u8 {
+        // SAFETY: only `draw_fan_avx512` and `draw_fan_avx2` pass these, and they run where
+        // the processor has those features.
+        unsafe {
+            if SHADE == FanShade::Avx512 as u8 {
+                d.fan.shade_avx512(d.brightness, n, xs, ys, [r, g, b, th]);
+            } else {
+                d.fan.shade_avx2(d.brightness, n, xs, ys, [r, g, b, th]);
+            }
+        }
+        return composite_all(buf, acc, d.order);
+    }
     let mut i = 0;
     while i < n {
         let lane = |s: &[f64]| -> [f64; L] {
@@ -713,18 +739,27 @@ impl Kernel {
     }
 }
 
-/// The widest kernel the processor supports (decided once).
+/// The widest kernel the processor supports (decided once). `VORANG_KERNEL=baseline` or
+/// `avx2` caps it, to measure or compare the narrower kernels on a wider processor (an
+/// unknown name or a kernel the processor lacks changes nothing).
 pub fn kernel() -> Kernel {
     static CHOICE: std::sync::OnceLock<Kernel> = std::sync::OnceLock::new();
     *CHOICE.get_or_init(|| {
+        let cap = std::env::var("VORANG_KERNEL").unwrap_or_default();
         #[cfg(target_arch = "x86_64")]
         {
-            for k in [Kernel::Avx512, Kernel::Avx2] {
+            let allowed = match cap.as_str() {
+                "baseline" => &[][..],
+                "avx2" => &[Kernel::Avx2][..],
+                _ => &[Kernel::Avx512, Kernel::Avx2][..],
+            };
+            for &k in allowed {
                 if supported(k) {
                     return k;
                 }
             }
         }
+        let _ = cap;
         Kernel::Baseline
     })
 }
@@ -1015,23 +1050,54 @@ mod tests {
             40,
         )
         .unwrap();
-        let eye = [
-            [3.0, 3.0, 0.0],
-            [36.0, 35.0, 0.0],
-            [34.0, 4.0, 2.0],
-            [5.0, 33.0, 2.5],
+        // Cells of every class with a fan (1: the fourth node inside, 2: crossing edges,
+        // 3: a node over an edge, 4: two nodes on one spot; fewer than four sectors leave
+        // unused ones that must never win), then random cells with random values.
+        let mut cells = vec![
+            [
+                [3.0, 3.0, 0.0],
+                [36.0, 35.0, 0.0],
+                [34.0, 4.0, 2.0],
+                [5.0, 33.0, 2.5],
+            ],
+            [
+                [2.0, 3.0, 0.0],
+                [35.0, 5.0, 0.5],
+                [15.0, 37.0, 1.0],
+                [16.0, 14.0, 3.0],
+            ],
+            [
+                [3.0, 3.0, 0.0],
+                [35.0, 3.0, 0.0],
+                [19.0, 36.0, 1.0],
+                [19.0, 3.0, 4.0],
+            ],
+            [
+                [3.0, 3.0, 0.0],
+                [35.0, 6.0, 0.0],
+                [19.0, 36.0, 1.0],
+                [3.0, 3.0, 4.0],
+            ],
         ];
-        let values = [
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        for _ in 0..300 {
+            cells.push(std::array::from_fn(|_| {
+                [next() * 44.0 - 2.0, next() * 44.0 - 2.0, next() * 8.0 - 4.0]
+            }));
+        }
+        let mut values = [
             [0.9, 0.2, 0.0, 0.5],
             [0.8, 0.9, 0.3, 0.0],
             [1.0, 0.1, 0.8, 0.2],
             [0.7, 0.4, 0.4, 0.9],
             [0.3, 0.6, 0.7, 0.1],
         ];
-        let screen = eye.map(|p| proj.screen(p));
-        let fp = footprint([0, 1, 2, 3], &eye, &screen, &proj).unwrap();
-        let fan = Fan::new(&fp, &values).unwrap();
-        let (v, count) = fp.hull().unwrap();
         let rect = Rect {
             x0: 4,
             y0: 2,
@@ -1041,40 +1107,59 @@ mod tests {
         let tw = rect.x1 - rect.x0;
         let n = tw * (rect.y1 - rect.y0);
         let start = vec![([0.1, 0.2, 0.3], 1.0); n];
-        let mut want = start.clone();
-        rasterize_convex(&v[..count], rect, |x, y| {
-            let px = gouraud::shade(1.5, fan.at(x as f64 + 0.5, y as f64 + 0.5));
-            composite(
-                Order::BackToFront,
-                &mut want[(y - rect.y0) * tw + x - rect.x0],
-                px,
-            );
-        });
-        #[cfg(target_arch = "x86_64")]
-        let kinds = [Kernel::Baseline, Kernel::Avx2, Kernel::Avx512];
-        #[cfg(not(target_arch = "x86_64"))]
-        let kinds = [Kernel::Baseline];
-        for k in kinds.into_iter().filter(|&k| supported(k)) {
-            let mut acc = start.clone();
-            let mut buf = SpanBuffer::default();
-            let drawn = draw_fan_with(
-                k,
-                &fan,
-                1.5,
-                &screen,
-                &v[..count],
-                rect,
-                &mut buf,
-                &mut acc,
-                Order::BackToFront,
-            );
-            assert!(drawn > 300, "{drawn}");
-            for (a, b) in acc.iter().zip(&want) {
-                assert_eq!(a.1.to_bits(), b.1.to_bits(), "{k:?}");
-                for ch in 0..3 {
-                    assert_eq!(a.0[ch].to_bits(), b.0[ch].to_bits(), "{k:?}");
+        let mut classes = std::collections::HashSet::new();
+        let mut pixels = 0;
+        for (c, eye) in cells.iter().enumerate() {
+            if c >= 4 {
+                values = std::array::from_fn(|_| std::array::from_fn(|_| next()));
+            }
+            let screen = eye.map(|p| proj.screen(p));
+            let Some(fp) = footprint([0, 1, 2, 3], eye, &screen, &proj) else {
+                continue;
+            };
+            let (Some(fan), Some((v, count))) = (Fan::new(&fp, &values), fp.hull()) else {
+                continue;
+            };
+            classes.insert(fp.projection.unwrap().class);
+            let mut want = start.clone();
+            rasterize_convex(&v[..count], rect, |x, y| {
+                let px = gouraud::shade(1.5, fan.at(x as f64 + 0.5, y as f64 + 0.5));
+                composite(
+                    Order::BackToFront,
+                    &mut want[(y - rect.y0) * tw + x - rect.x0],
+                    px,
+                );
+                pixels += 1;
+            });
+            #[cfg(target_arch = "x86_64")]
+            let kinds = [Kernel::Baseline, Kernel::Avx2, Kernel::Avx512];
+            #[cfg(not(target_arch = "x86_64"))]
+            let kinds = [Kernel::Baseline];
+            for k in kinds.into_iter().filter(|&k| supported(k)) {
+                let mut acc = start.clone();
+                let mut buf = SpanBuffer::default();
+                draw_fan_with(
+                    k,
+                    &fan,
+                    1.5,
+                    &screen,
+                    &v[..count],
+                    rect,
+                    &mut buf,
+                    &mut acc,
+                    Order::BackToFront,
+                );
+                for (a, b) in acc.iter().zip(&want) {
+                    assert_eq!(a.1.to_bits(), b.1.to_bits(), "{k:?} cell {c}");
+                    for ch in 0..3 {
+                        assert_eq!(a.0[ch].to_bits(), b.0[ch].to_bits(), "{k:?} cell {c}");
+                    }
                 }
             }
         }
+        assert!(
+            classes.len() >= 4 && pixels > 10_000,
+            "{classes:?} {pixels}"
+        );
     }
 }

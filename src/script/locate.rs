@@ -71,12 +71,11 @@ pub fn from_trace(
 /// A path as short as possible: relative to the current folder when it lies inside it.
 pub fn display_path(path: &str) -> String {
     let p = std::path::Path::new(path);
-    if p.is_absolute() {
-        if let Ok(cwd) = std::env::current_dir() {
-            if let Ok(rel) = p.strip_prefix(&cwd) {
-                return rel.display().to_string();
-            }
-        }
+    if p.is_absolute()
+        && let Ok(cwd) = std::env::current_dir()
+        && let Ok(rel) = p.strip_prefix(&cwd)
+    {
+        return rel.display().to_string();
     }
     path.to_string()
 }

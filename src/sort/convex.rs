@@ -18,12 +18,12 @@ pub fn is_convex(mesh: &TetMesh) -> bool {
     let mut count = 1;
     while let Some(c) = stack.pop() {
         for f in 0..4 {
-            if let Some(n) = mesh.neighbor(c, f) {
-                if !seen[n] {
-                    seen[n] = true;
-                    count += 1;
-                    stack.push(n);
-                }
+            if let Some(n) = mesh.neighbor(c, f)
+                && !seen[n]
+            {
+                seen[n] = true;
+                count += 1;
+                stack.push(n);
             }
         }
     }

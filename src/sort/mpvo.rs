@@ -244,10 +244,10 @@ mod tests {
         assert!(pos.iter().all(|&p| p != usize::MAX), "every cell appears");
         for c in 0..input.mesh.tet_count() {
             for f in 0..4 {
-                if let Some(n) = input.mesh.neighbor(c, f) {
-                    if facing(input, c, f) == 1 {
-                        assert!(pos[c] < pos[n], "cell {c} is behind {n} but drawn after it");
-                    }
+                if let Some(n) = input.mesh.neighbor(c, f)
+                    && facing(input, c, f) == 1
+                {
+                    assert!(pos[c] < pos[n], "cell {c} is behind {n} but drawn after it");
                 }
             }
         }

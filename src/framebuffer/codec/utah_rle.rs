@@ -105,7 +105,7 @@ pub fn read(bytes: &[u8]) -> Result<Decoded, String> {
         for c in 0..3 {
             background[c] = unit(bg[c.min(channels - 1)]);
         }
-        if channels % 2 == 0 {
+        if channels.is_multiple_of(2) {
             b.u8("padding")?;
         }
     }
