@@ -140,6 +140,11 @@ impl CellRows {
         Some(rows)
     }
 
+    /// How many pixel centres the outline's bounding box holds: at least the rows' pixels.
+    pub fn area(&self) -> usize {
+        (self.x1 - self.x0) * (self.y1 - self.y0)
+    }
+
     /// The rows `y` holding pixel centres of the outline's bounding box.
     pub fn ys(&self) -> std::ops::Range<usize> {
         self.y0..self.y1

@@ -191,6 +191,14 @@ impl SpanBuffer {
         }
     }
 
+    /// Room for every pixel of a cell whose rows lie in `rows` (its pixel box): the rows are
+    /// then pushed without asking again, row by row (a call per row before; rows average about
+    /// twelve pixels).
+    #[inline(always)]
+    fn reserve_cell(&mut self, rows: &CellRows) {
+        self.reserve(rows.area() + LANES);
+    }
+
     /// One pixel (the tile loop gathers whole runs with [`SpanBuffer::push_run`]).
     #[cfg(test)]
     fn push(&mut self, slot: usize, x: f64, y: f64, near: f64, far: f64) {
@@ -208,7 +216,7 @@ impl SpanBuffer {
     /// and exit depths from the faces' rows `near` and `far`, `P` (≤ [`LANES`]) at a time. One
     /// pass writes every array.
     #[inline(always)]
-    pub fn push_run<const P: usize>(
+    pub fn push_run<const P: usize, const RESERVED: bool>(
         &mut self,
         slot: usize,
         x0: usize,
@@ -219,14 +227,14 @@ impl SpanBuffer {
     ) {
         const { assert!(P <= LANES) };
         if near.perspective() {
-            self.push_run_view::<true, P>(slot, x0, x1, py, near, far)
+            self.push_run_view::<true, P, RESERVED>(slot, x0, x1, py, near, far)
         } else {
-            self.push_run_view::<false, P>(slot, x0, x1, py, near, far)
+            self.push_run_view::<false, P, RESERVED>(slot, x0, x1, py, near, far)
         }
     }
 
     #[inline(always)]
-    fn push_run_view<const PERSP: bool, const P: usize>(
+    fn push_run_view<const PERSP: bool, const P: usize, const RESERVED: bool>(
         &mut self,
         slot: usize,
         x0: usize,
@@ -239,8 +247,10 @@ impl SpanBuffer {
         // Whole batches of `P` (≤ `LANES`, one vector register: 4 on AVX2, where runs of about
         // five pixels made most of a batch of eight wasted): the writes past the run are
         // overwritten by the next run or lie beyond `len` (stale lanes), and fixed-length loops
-        // become vector instructions.
-        self.reserve(len + LANES);
+        // become vector instructions. `RESERVED`: the caller made room for the whole cell.
+        if !RESERVED {
+            self.reserve(len + LANES);
+        }
         let px0 = x0 as f64 + 0.5;
         // The arrays as slices from here on: their addresses stay in registers (through `self`
         // they were read again after every store).
@@ -280,11 +290,14 @@ impl SpanBuffer {
     }
 
     /// Pixels `x0..x1` of the row at screen y = `py`, the first in tile slot `slot`, without
-    /// depths (screen-space shading needs none).
+    /// depths (screen-space shading needs none). `RESERVED`: the caller made room for the whole
+    /// cell ([`SpanBuffer::reserve_cell`]).
     #[inline(always)]
-    fn push_pixels(&mut self, slot: usize, x0: usize, x1: usize, py: f64) {
+    fn push_pixels<const RESERVED: bool>(&mut self, slot: usize, x0: usize, x1: usize, py: f64) {
         let len = x1 - x0;
-        self.reserve(len + LANES);
+        if !RESERVED {
+            self.reserve(len + LANES);
+        }
         let px0 = x0 as f64 + 0.5;
         // Through slices taken once (see `push_run_view`).
         let at = self.n..self.n + len.div_ceil(LANES) * LANES;
@@ -424,7 +437,7 @@ fn draw_with(
 /// pixel, length and faces into `buf.runs` too.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
-fn push_row<const P: usize>(
+fn push_row<const P: usize, const RESERVED: bool>(
     buf: &mut SpanBuffer,
     cf: &CellFaces,
     rect: Rect,
@@ -448,7 +461,7 @@ fn push_row<const P: usize>(
             ]);
         }
         match (cf.depth_row(entry, py), cf.depth_row(exit, py)) {
-            (Some(n), Some(f)) => buf.push_run::<P>(slot, run.x0, run.x1, py, n, f),
+            (Some(n), Some(f)) => buf.push_run::<P, RESERVED>(slot, run.x0, run.x1, py, n, f),
             _ => buf.push_run_slivers(slot, run.x0, run.x1, py, cf, entry, exit),
         }
     }
@@ -487,9 +500,10 @@ fn draw_body<const WIDE: usize, const FMA: bool, const P: usize>(
     let record = acc.is_none();
     buf.clear();
     if let Some(rows) = CellRows::new(d.screen, d.hull, cf.needed(), rect) {
+        buf.reserve_cell(&rows);
         for y in rows.ys() {
             if let Some((from, to, row)) = rows.row(y) {
-                push_row::<P>(buf, cf, rect, y, from, to, &row, record);
+                push_row::<P, true>(buf, cf, rect, y, from, to, &row, record);
             }
         }
     } else {
@@ -500,7 +514,7 @@ fn draw_body<const WIDE: usize, const FMA: bool, const P: usize>(
         for i in 0..buf.rows.len() {
             let [y, from, to] = buf.rows[i];
             let row = cf.row(y, from, to);
-            push_row::<P>(buf, cf, rect, y, from, to, &row, record);
+            push_row::<P, false>(buf, cf, rect, y, from, to, &row, record);
         }
     }
     if d.pieces.count > 1 {
@@ -661,9 +675,10 @@ fn draw_fan_body<const L: usize, const SHADE: u8>(
     buf.clear();
     let slot = |y: usize, from: usize| (y - rect.y0) * tw + from - rect.x0;
     if let Some(rows) = CellRows::new(d.screen, d.hull, 0, rect) {
+        buf.reserve_cell(&rows);
         for y in rows.ys() {
             if let Some((from, to, _)) = rows.row(y) {
-                buf.push_pixels(slot(y, from), from, to, y as f64 + 0.5);
+                buf.push_pixels::<true>(slot(y, from), from, to, y as f64 + 0.5);
             }
         }
     } else {
@@ -671,7 +686,7 @@ fn draw_fan_body<const L: usize, const SHADE: u8>(
         rasterize_convex_rows(d.hull, rect, |y, from, to| buf.rows.push([y, from, to]));
         for i in 0..buf.rows.len() {
             let [y, from, to] = buf.rows[i];
-            buf.push_pixels(slot(y, from), from, to, y as f64 + 0.5);
+            buf.push_pixels::<false>(slot(y, from), from, to, y as f64 + 0.5);
         }
     }
     let n = buf.len().div_ceil(L) * L;
