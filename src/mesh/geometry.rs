@@ -49,12 +49,25 @@ pub fn barycentric(corners: &[[f64; 3]; 4], p: [f64; 3]) -> Option<([f64; 4], [[
     Some((l, grads))
 }
 
-/// `∇λ_i` for the four barycentric coordinates of a cell.
-pub fn barycentric_gradients(c: &[[f64; 3]; 4]) -> Option<[[f64; 3]; 4]> {
+/// The edges from node 0 and the determinant of the Jacobian they form.
+#[inline(always)]
+fn jacobian(c: &[[f64; 3]; 4]) -> ([[f64; 3]; 3], f64) {
     let e1 = sub(c[1], c[0]);
     let e2 = sub(c[2], c[0]);
     let e3 = sub(c[3], c[0]);
-    let det = dot(cross(e1, e2), e3);
+    ([e1, e2, e3], dot(cross(e1, e2), e3))
+}
+
+/// Whether [`barycentric_gradients`] has an answer: a nonzero, finite Jacobian determinant.
+#[inline]
+pub fn is_proper(c: &[[f64; 3]; 4]) -> bool {
+    let det = jacobian(c).1;
+    det != 0.0 && det.is_finite()
+}
+
+/// `∇λ_i` for the four barycentric coordinates of a cell.
+pub fn barycentric_gradients(c: &[[f64; 3]; 4]) -> Option<[[f64; 3]; 4]> {
+    let ([e1, e2, e3], det) = jacobian(c);
     if det == 0.0 || !det.is_finite() {
         return None;
     }

@@ -10,7 +10,7 @@ pub mod generate;
 mod geometry;
 pub mod overlap;
 
-pub use geometry::{Aabb, barycentric, barycentric_gradients, orientation, tet_volume};
+pub use geometry::{Aabb, barycentric, barycentric_gradients, is_proper, orientation, tet_volume};
 
 /// Marks a face without a neighbouring cell (a boundary face).
 pub const NO_NEIGHBOR: u32 = u32::MAX;

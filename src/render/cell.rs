@@ -46,6 +46,11 @@ impl Interval {
 }
 
 impl EyeCell {
+    /// Whether [`EyeCell::new`] has an answer: the cell is not flat (the same test).
+    pub fn is_proper(p: &[[f64; 3]; 4]) -> bool {
+        crate::mesh::is_proper(p)
+    }
+
     /// `None` for a degenerate (flat) cell.
     pub fn new(p: &[[f64; 3]; 4]) -> Option<EyeCell> {
         let g = barycentric_gradients(p)?;

@@ -708,9 +708,12 @@ fn render_tile<A: Approx>(
         }
         let cell = cell as usize;
         let eye = f.eye_corners(cell);
-        let Some(ec) = EyeCell::new(&eye) else {
+        // A flat cell has nothing to draw; its barycentric functions ([`EyeCell`]) only where
+        // rays are followed through it (screen-space shading needs none).
+        if !EyeCell::is_proper(&eye) {
             continue;
-        };
+        }
+        let eye_cell = || EyeCell::new(&eye);
         let screen = f.screen_corners(cell);
         let Some(fp) = footprint(tets[cell], &eye, &screen, &f.projector) else {
             continue;
@@ -756,7 +759,7 @@ fn render_tile<A: Approx>(
         // Span kernel: the whole cell's pixels at once.
         if span_frame
             && unclipped
-            && let (Some((v, count)), Some(cf)) = (hull, &faces)
+            && let (Some((v, count)), Some(cf), Some(ec)) = (hull, &faces, eye_cell())
         {
             let geometry = span::SpanGeometry {
                 rays: CellRays::new(&ec, &f.projector),
@@ -807,7 +810,7 @@ fn render_tile<A: Approx>(
             && unclipped
             && let Some((v, count)) = hull
         {
-            let c = method.prepare(f, cell, &ec, &fp, &mut scratch);
+            let c = method.prepare(f, cell, &fp, &mut scratch);
             if let Some(fan) = method
                 .fan_values(&c)
                 .and_then(|values| Fan::new(&fp, &values))
@@ -867,6 +870,9 @@ fn render_tile<A: Approx>(
             link(entry, nb[iv.exit_face], iv.near, iv.far)
         };
         // Everything else per ray: over the outline where the method needs no fan triangle.
+        let Some(ec) = eye_cell() else {
+            continue;
+        };
         let rays = CellRays::new(&ec, &f.projector);
         let hull = if A::SCREEN_SPACE { None } else { hull };
         let parts = if hull.is_some() { 1 } else { fp.count };
@@ -919,8 +925,7 @@ fn render_tile<A: Approx>(
                     }
                     return;
                 }
-                let c =
-                    prepared.get_or_insert_with(|| method.prepare(f, cell, &ec, &fp, &mut scratch));
+                let c = prepared.get_or_insert_with(|| method.prepare(f, cell, &fp, &mut scratch));
                 let speed = match f.projector {
                     Projector::Ortho { .. } => 1.0,
                     Projector::Persp { .. } => f.projector.ray(x, y).speed(),

@@ -58,6 +58,89 @@ pub struct Projection {
     pub count: usize,
 }
 
+/// Where the ray through the thick point T enters and leaves the cell: each end's barycentric
+/// coordinates and depth, the nearer end first ([`Projection::thick_ends`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ThickEnds {
+    pub near: ([f64; 4], f64),
+    pub far: ([f64; 4], f64),
+}
+
+impl Projection {
+    /// The ends of the cell's thickest ray, from the classification itself: T is a node (classes
+    /// 1, 3, 4), whose ray leaves through the opposite face at T's barycentric coordinates in
+    /// that face's projection; or the crossing of two edges (class 2), at their parameters
+    /// there. Screen-space weights become the cell's own by the perspective correction
+    /// `(μ_n/d_n) / Σ μ_m/d_m` (d the nodes' depths). The same points as intersecting that ray
+    /// with the cell's four face planes (as [`crate::render::cell::EyeCell::interval`] does, up
+    /// to rounding; tested), at a fraction of the cost: no inverse of the cell's Jacobian, no
+    /// divisions per face. `s` and `eye`: the nodes' screen and eye positions the projection
+    /// was classified from. `None` for a flat projection, or a zero area in floating point.
+    pub fn thick_ends(
+        &self,
+        s: &[[f64; 2]; 4],
+        eye: &[[f64; 3]; 4],
+        perspective: bool,
+    ) -> Option<ThickEnds> {
+        let depth = eye.map(|p| -p[2]);
+        let cross = |a: [f64; 2], b: [f64; 2]| a[0] * b[1] - a[1] * b[0];
+        let sub = |a: [f64; 2], b: [f64; 2]| [a[0] - b[0], a[1] - b[1]];
+        // Screen-affine weights `mu` of nodes `at` as the cell's barycentric coordinates, and
+        // the depth there.
+        let end = |at: &[usize], mu: &[f64]| -> ([f64; 4], f64) {
+            let mut lambda = [0.0; 4];
+            if perspective {
+                let total: f64 = at.iter().zip(mu).map(|(&n, &m)| m / depth[n]).sum();
+                for (&n, &m) in at.iter().zip(mu) {
+                    lambda[n] = m / depth[n] / total;
+                }
+            } else {
+                for (&n, &m) in at.iter().zip(mu) {
+                    lambda[n] = m;
+                }
+            }
+            let d = at.iter().map(|&n| lambda[n] * depth[n]).sum();
+            (lambda, d)
+        };
+        let (a, b) = match (self.class, self.thick_node) {
+            (ProjClass::Flat, _) => return None,
+            (ProjClass::Two, _) => {
+                // Triangles [a, c, T], [c, b, T], [b, d, T], [d, a, T]: edges ab and cd cross.
+                let t = &self.triangles;
+                let node = |v: u8| usize::from(v);
+                let (a, c, b, d) = (node(t[0][0]), node(t[0][1]), node(t[1][1]), node(t[2][1]));
+                let (p, r) = (s[a], sub(s[b], s[a]));
+                let (q, w) = (s[c], sub(s[d], s[c]));
+                let denom = cross(r, w);
+                if denom == 0.0 {
+                    return None;
+                }
+                let t = cross(sub(q, p), w) / denom;
+                let u = cross(sub(q, p), r) / denom;
+                (end(&[a, b], &[1.0 - t, t]), end(&[c, d], &[1.0 - u, u]))
+            }
+            (_, Some(i)) => {
+                const OTHERS: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
+                let [j, k, l] = OTHERS[i];
+                let tp = s[i];
+                let area = cross(sub(s[k], s[j]), sub(s[l], s[j]));
+                if area == 0.0 {
+                    return None;
+                }
+                let mj = cross(sub(s[k], tp), sub(s[l], tp)) / area;
+                let mk = cross(sub(s[l], tp), sub(s[j], tp)) / area;
+                (end(&[i], &[1.0]), end(&[j, k, l], &[mj, mk, 1.0 - mj - mk]))
+            }
+            (_, None) => return None,
+        };
+        Some(if a.1 <= b.1 {
+            ThickEnds { near: a, far: b }
+        } else {
+            ThickEnds { near: b, far: a }
+        })
+    }
+}
+
 fn sign(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> i8 {
     let o = orient2d(
         Coord { x: p[0], y: p[1] },
@@ -222,6 +305,71 @@ fn classify_with(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The thick point's ray ends from the classification against intersecting the ray through
+    /// T with the cell's face planes ([`crate::render::cell::EyeCell::interval`]): the same
+    /// depths and barycentric coordinates, for random cells of every class with a thick point,
+    /// orthographic and perspective.
+    #[test]
+    fn thick_ends_are_where_the_ray_through_t_crosses_the_faces() {
+        use crate::render::cell::EyeCell;
+        use crate::scene::Ray;
+        let mut state = 0x1234_5678_9abc_def1u64;
+        let mut next = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        };
+        let mut compared = std::collections::HashMap::new();
+        for round in 0..20_000 {
+            let perspective = round % 2 == 1;
+            let eye: [[f64; 3]; 4] =
+                std::array::from_fn(|_| [next() * 2.0 - 1.0, next() * 2.0 - 1.0, -3.0 - next()]);
+            let s = if perspective {
+                eye.map(|p| [p[0] / -p[2], -p[1] / -p[2]])
+            } else {
+                eye.map(|p| [p[0], -p[1]])
+            };
+            let proj = classify(&s, &eye, perspective);
+            let (Some(ends), Some(cell)) =
+                (proj.thick_ends(&s, &eye, perspective), EyeCell::new(&eye))
+            else {
+                continue;
+            };
+            let [x, y] = proj.thick;
+            let ray = if perspective {
+                Ray {
+                    origin: [0.0; 3],
+                    dir: [x, -y, -1.0],
+                }
+            } else {
+                Ray {
+                    origin: [x, -y, 0.0],
+                    dir: [0.0, 0.0, -1.0],
+                }
+            };
+            // Skip the rays the face planes settle badly (a face almost along the ray).
+            let Some(iv) = cell.interval(&ray) else {
+                continue;
+            };
+            let close = |a: f64, b: f64| (a - b).abs() <= 1e-9 * (1.0 + a.abs());
+            assert!(close(ends.near.1, iv.near), "{eye:?}: {ends:?} vs {iv:?}");
+            assert!(close(ends.far.1, iv.far), "{eye:?}: {ends:?} vs {iv:?}");
+            let (ln, lf) = (iv.lambda(iv.near), iv.lambda(iv.far));
+            for n in 0..4 {
+                assert!(close(ends.near.0[n], ln[n]), "{eye:?}: {ends:?} vs {ln:?}");
+                assert!(close(ends.far.0[n], lf[n]), "{eye:?}: {ends:?} vs {lf:?}");
+            }
+            *compared.entry((proj.class, perspective)).or_insert(0) += 1;
+        }
+        for class in [ProjClass::OneA, ProjClass::OneB, ProjClass::Two] {
+            for perspective in [false, true] {
+                let n = compared.get(&(class, perspective)).copied().unwrap_or(0);
+                assert!(n > 1000, "{class:?} perspective {perspective}: {n} compared");
+            }
+        }
+    }
 
     /// Every class decided with the predicate asked afresh for each triple, as before the four
     /// orientations were shared: the same projection, bit for bit, on random cells and on cells

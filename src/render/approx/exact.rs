@@ -16,7 +16,6 @@
 use super::{Approx, Method, MethodInfo, Pixel, Scratch, accumulate, non_negative, rule};
 use crate::integrate::{Contribution, RuleInfo, Segment};
 use crate::mapping::{Lines, Shape, Transfer1D};
-use crate::render::cell::EyeCell;
 use crate::render::footprint::Footprint;
 use crate::render::frame::Frame;
 use crate::render::span::{Clip, MAX_PIECES, SpanCell, SpanGeometry, SpanPieces};
@@ -333,14 +332,7 @@ impl Approx for Exact {
         self.span_pieces(f, cell, geometry, out).is_some()
     }
 
-    fn prepare(
-        &self,
-        f: &Frame,
-        cell: usize,
-        _: &EyeCell,
-        _: &Footprint,
-        _: &mut Scratch,
-    ) -> [f64; 4] {
+    fn prepare(&self, f: &Frame, cell: usize, _: &Footprint, _: &mut Scratch) -> [f64; 4] {
         f.node_values(cell)
     }
 

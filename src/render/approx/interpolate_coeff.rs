@@ -4,7 +4,6 @@
 
 use super::{Approx, Method, MethodInfo, Pixel, Scratch, non_negative, rule};
 use crate::integrate::{RuleInfo, Segment};
-use crate::render::cell::EyeCell;
 use crate::render::footprint::Footprint;
 use crate::render::frame::Frame;
 use crate::render::span::{SpanCell, SpanGeometry, SpanPieces};
@@ -97,14 +96,7 @@ impl Approx for InterpolateCoeff {
         true
     }
 
-    fn prepare(
-        &self,
-        f: &Frame,
-        cell: usize,
-        _: &EyeCell,
-        _: &Footprint,
-        s: &mut Scratch,
-    ) -> NodeCoefficients {
+    fn prepare(&self, f: &Frame, cell: usize, _: &Footprint, s: &mut Scratch) -> NodeCoefficients {
         node_coefficients(f, cell, s)
     }
 

@@ -11,7 +11,6 @@
 use super::interpolate_coeff::{NodeCoefficients, interpolate, node_coefficients};
 use super::{Approx, Method, MethodInfo, Pixel, Scratch, non_negative};
 use crate::integrate::{Segment, const_ea::rule as const_ea_rule};
-use crate::render::cell::EyeCell;
 use crate::render::footprint::Footprint;
 use crate::render::frame::Frame;
 use crate::render::project::THICK;
@@ -61,14 +60,7 @@ impl Approx for InterpolateColor {
         Some(self.brightness)
     }
 
-    fn prepare(
-        &self,
-        f: &Frame,
-        cell: usize,
-        eye: &EyeCell,
-        fp: &Footprint,
-        s: &mut Scratch,
-    ) -> ColorCell {
+    fn prepare(&self, f: &Frame, cell: usize, fp: &Footprint, s: &mut Scratch) -> ColorCell {
         let coeff = node_coefficients(f, cell, s);
         let Some(proj) = fp.projection else {
             return ColorCell::Clipped(coeff);
@@ -78,11 +70,12 @@ impl Approx for InterpolateColor {
             v[i] = (1.0, coeff[i].0);
         }
         let ray = f.projector.ray_at(proj.thick[0], proj.thick[1]);
-        v[THICK as usize] = match eye.interval(&ray) {
-            Some(iv) => {
-                let front = f.mapped(cell, &iv.lambda(iv.near), &mut s.values);
-                let back = f.mapped(cell, &iv.lambda(iv.far), &mut s.values);
-                let l = (iv.far - iv.near) * ray.speed();
+        let (screen, eye) = (f.screen_corners(cell), f.eye_corners(cell));
+        v[THICK as usize] = match proj.thick_ends(&screen, &eye, f.projector.is_perspective()) {
+            Some(ends) => {
+                let front = f.mapped(cell, &ends.near.0, &mut s.values);
+                let back = f.mapped(cell, &ends.far.0, &mut s.values);
+                let l = (ends.far.1 - ends.near.1) * ray.speed();
                 let theta = (-0.5 * (front.1 + back.1) * l).exp();
                 let eta = [0, 1, 2].map(|k| back.0[k] * theta + front.0[k] * (1.0 - theta));
                 (theta, eta)

@@ -12,7 +12,7 @@ pub use interpolate_coeff::InterpolateCoeff;
 pub use interpolate_color::InterpolateColor;
 pub use test::Test;
 
-use super::cell::{EyeCell, Interval};
+use super::cell::Interval;
 use super::footprint::Footprint;
 use super::frame::Frame;
 use super::span::{SpanGeometry, SpanPieces};
@@ -101,14 +101,7 @@ pub trait Approx: Sync {
     ) -> bool {
         false
     }
-    fn prepare(
-        &self,
-        f: &Frame,
-        cell: usize,
-        eye: &EyeCell,
-        fp: &Footprint,
-        s: &mut Scratch,
-    ) -> Self::Cell;
+    fn prepare(&self, f: &Frame, cell: usize, fp: &Footprint, s: &mut Scratch) -> Self::Cell;
     fn pixel(
         &self,
         f: &Frame,

@@ -7,7 +7,6 @@
 //! node, where the cell beyond the exit face is only touched and draws nothing.
 
 use super::{Approx, Method, MethodInfo, Pixel, Scratch};
-use crate::render::cell::EyeCell;
 use crate::render::footprint::Footprint;
 use crate::render::frame::Frame;
 
@@ -40,7 +39,7 @@ impl Approx for Test {
         false
     }
 
-    fn prepare(&self, _: &Frame, _: usize, _: &EyeCell, _: &Footprint, _: &mut Scratch) {}
+    fn prepare(&self, _: &Frame, _: usize, _: &Footprint, _: &mut Scratch) {}
 
     fn pixel(&self, _: &Frame, _: usize, _: &(), px: &Pixel, s: &mut Scratch) -> ([f64; 3], f64) {
         let a = self.opacity;
