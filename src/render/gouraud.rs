@@ -46,7 +46,7 @@ struct Sector {
 }
 
 /// The fan of one cell, ready to shade pixels.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, Default)]
 pub struct Fan {
     sectors: [Sector; 4],
     count: usize,
@@ -56,7 +56,19 @@ impl Fan {
     /// The fan of an unclipped footprint with `values[v]` at each fan vertex (0…3 the nodes,
     /// [`THICK`] the thick point). `None` for a footprint without a Shirley–Tuchman split.
     pub fn new(fp: &Footprint, values: &[[f64; 4]; 5]) -> Option<Fan> {
-        fp.projection.as_ref()?;
+        let mut fan = Fan {
+            sectors: [Sector::default(); 4],
+            count: 0,
+        };
+        fan.build(fp, values).then_some(fan)
+    }
+
+    /// [`Fan::new`] into `self`, which the tile loop reuses from cell to cell (returned, the
+    /// fan's 480 bytes were copied once more per cell). `false` where [`Fan::new`] gives `None`.
+    pub fn build(&mut self, fp: &Footprint, values: &[[f64; 4]; 5]) -> bool {
+        if fp.projection.is_none() {
+            return false;
+        }
         // Unused sectors never win: their T weight is +∞.
         let unused = Sector {
             thick: Plane {
@@ -66,14 +78,15 @@ impl Fan {
             },
             ..Sector::default()
         };
-        let mut fan = Fan {
-            sectors: [unused; 4],
-            count: 0,
-        };
+        let fan = self;
+        fan.sectors = [unused; 4];
+        fan.count = 0;
         let vt = values[THICK as usize];
         for k in 0..fp.count {
             let corners = fp.corners[k];
-            let t = corners.iter().position(|&c| c == THICK)?;
+            let Some(t) = corners.iter().position(|&c| c == THICK) else {
+                return false;
+            };
             // The two nodes in the triangle's own order after T (the orientation is irrelevant:
             // both weights are ratios of areas of the same sign).
             let (i, j) = ((t + 1) % 3, (t + 2) % 3);
@@ -112,7 +125,7 @@ impl Fan {
             };
             fan.count += 1;
         }
-        (fan.count > 0).then_some(fan)
+        fan.count > 0
     }
 
     /// [`Fan::at`] for `L` pixel centres at once: every sector's planes are evaluated and the

@@ -48,7 +48,7 @@ pub use lines::LineDraw;
 use approx::{Approx, Pixel, Scratch};
 use cell::{CellRays, EyeCell, Interval};
 use faces::{CellFaces, FaceHit};
-use footprint::footprint;
+use footprint::{Footprint, footprint, footprint_into};
 use frame::{Backdrop, Frame};
 use gouraud::Fan;
 pub use raster::Rect;
@@ -684,6 +684,9 @@ fn render_tile<A: Approx>(
     });
     let mut span_buf = span::SpanBuffer::default();
     let mut span_pieces = span::SpanPieces::empty();
+    // Reused from cell to cell, written in place (see `footprint_into`, `Fan::build`).
+    let mut fp = Footprint::empty();
+    let mut fan = Fan::default();
     let mut lane_fragments = 0u64;
     let tets = f.vol.mesh.tets();
     let neighbors = f.vol.mesh.neighbors();
@@ -715,9 +718,10 @@ fn render_tile<A: Approx>(
         }
         let eye_cell = || EyeCell::new(&eye);
         let screen = f.screen_corners(cell);
-        let Some(fp) = footprint(tets[cell], &eye, &screen, &f.projector) else {
+        if !footprint_into(tets[cell], &eye, &screen, &f.projector, &mut fp) {
             continue;
-        };
+        }
+        let fp = &fp;
         let depth = eye.map(|p| -p[2]);
         // Along every ray τ is the depth, so the cell's depth range bounds every interval:
         // inside the camera's range and before every line, no pixel needs clipping.
@@ -811,9 +815,9 @@ fn render_tile<A: Approx>(
             && let Some((v, count)) = hull
         {
             let c = method.prepare(f, cell, &fp, &mut scratch);
-            if let Some(fan) = method
+            if method
                 .fan_values(&c)
-                .and_then(|values| Fan::new(&fp, &values))
+                .is_some_and(|values| fan.build(fp, &values))
             {
                 if let (Some(brightness), true, Pixels::Direct(acc)) =
                     (method.gouraud_brightness(), f.span_kernels, &mut pixels)

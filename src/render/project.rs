@@ -366,7 +366,10 @@ mod tests {
         for class in [ProjClass::OneA, ProjClass::OneB, ProjClass::Two] {
             for perspective in [false, true] {
                 let n = compared.get(&(class, perspective)).copied().unwrap_or(0);
-                assert!(n > 1000, "{class:?} perspective {perspective}: {n} compared");
+                assert!(
+                    n > 1000,
+                    "{class:?} perspective {perspective}: {n} compared"
+                );
             }
         }
     }

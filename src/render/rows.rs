@@ -53,7 +53,9 @@ impl CellRows {
     /// cannot be named by the cell's edges (two nodes on the same screen position): the general
     /// scan conversion takes such a cell.
     /// `inner`: the cell edges whose splits the rows must also carry (bit e for
-    /// [`EDGE_NODES`]`[e]`; [`CellFaces::needed`], or none).
+    /// [`EDGE_NODES`]`[e]`; [`CellFaces::needed`], or none). Inlined: built in the caller's
+    /// frame, not copied there (it is 500 bytes).
+    #[inline(always)]
     pub fn new(
         screen: &[[f64; 2]; 4],
         hull: &[[f64; 2]],
