@@ -814,7 +814,7 @@ fn render_tile<A: Approx>(
             && unclipped
             && let Some((v, count)) = hull
         {
-            let c = method.prepare(f, cell, &fp, &mut scratch);
+            let c = method.prepare(f, cell, fp, &mut scratch);
             if method
                 .fan_values(&c)
                 .is_some_and(|values| fan.build(fp, &values))
@@ -929,7 +929,7 @@ fn render_tile<A: Approx>(
                     }
                     return;
                 }
-                let c = prepared.get_or_insert_with(|| method.prepare(f, cell, &fp, &mut scratch));
+                let c = prepared.get_or_insert_with(|| method.prepare(f, cell, fp, &mut scratch));
                 let speed = match f.projector {
                     Projector::Ortho { .. } => 1.0,
                     Projector::Persp { .. } => f.projector.ray(x, y).speed(),
