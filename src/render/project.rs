@@ -314,13 +314,8 @@ mod tests {
     fn thick_ends_are_where_the_ray_through_t_crosses_the_faces() {
         use crate::render::cell::EyeCell;
         use crate::scene::Ray;
-        let mut state = 0x1234_5678_9abc_def1u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::mesh::generate::SplitMix64(0x1234_5678_9abc_def1);
+        let mut next = || rng.next_f64();
         let mut compared = std::collections::HashMap::new();
         for round in 0..20_000 {
             let perspective = round % 2 == 1;
@@ -380,22 +375,17 @@ mod tests {
     /// class).
     #[test]
     fn shared_orientations_decide_as_the_predicate_per_triple() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut next = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            state
-        };
+        let mut rng = crate::mesh::generate::SplitMix64(0x9e37_79b9_7f4a_7c15);
+        let mut next = || rng.next_f64();
         let mut classes = std::collections::HashSet::new();
         for round in 0..100_000 {
             let eye: [[f64; 3]; 4] = std::array::from_fn(|_| {
                 std::array::from_fn(|k| {
                     let r = next();
                     let v = if round % 2 == 0 {
-                        (r % 3) as f64
+                        (r * 3.0).floor()
                     } else {
-                        (r >> 11) as f64 / (1u64 << 53) as f64 * 4.0 - 2.0
+                        r * 4.0 - 2.0
                     };
                     if k == 2 { v - 5.0 } else { v }
                 })

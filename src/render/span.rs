@@ -1094,13 +1094,8 @@ mod tests {
                 [3.0, 3.0, 4.0],
             ],
         ];
-        let mut state = 0x2545_f491_4f6c_dd1du64;
-        let mut next = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut rng = crate::mesh::generate::SplitMix64(0x2545_f491_4f6c_dd1d);
+        let mut next = move || rng.next_f64();
         for _ in 0..300 {
             cells.push(std::array::from_fn(|_| {
                 [next() * 44.0 - 2.0, next() * 44.0 - 2.0, next() * 8.0 - 4.0]
