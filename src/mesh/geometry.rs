@@ -61,14 +61,18 @@ fn jacobian(c: &[[f64; 3]; 4]) -> ([[f64; 3]; 3], f64) {
 /// Whether [`barycentric_gradients`] has an answer: a nonzero, finite Jacobian determinant.
 #[inline]
 pub fn is_proper(c: &[[f64; 3]; 4]) -> bool {
-    let det = jacobian(c).1;
+    proper_det(jacobian(c).1)
+}
+
+#[inline(always)]
+fn proper_det(det: f64) -> bool {
     det != 0.0 && det.is_finite()
 }
 
 /// `∇λ_i` for the four barycentric coordinates of a cell.
 pub fn barycentric_gradients(c: &[[f64; 3]; 4]) -> Option<[[f64; 3]; 4]> {
     let ([e1, e2, e3], det) = jacobian(c);
-    if det == 0.0 || !det.is_finite() {
+    if !proper_det(det) {
         return None;
     }
     // Rows of the inverse of [e1 e2 e3] (columns): ∇λ1 = (e2×e3)/det, etc.

@@ -716,7 +716,9 @@ fn render_tile<A: Approx>(
         if !EyeCell::is_proper(&eye) {
             continue;
         }
-        let eye_cell = || EyeCell::new(&eye);
+        // Built at most once: the span path and the per-ray path may both ask for it.
+        let eye_once = std::cell::OnceCell::new();
+        let eye_cell = || *eye_once.get_or_init(|| EyeCell::new(&eye));
         let screen = f.screen_corners(cell);
         if !footprint_into(tets[cell], &eye, &screen, &f.projector, &mut fp) {
             continue;

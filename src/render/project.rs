@@ -42,6 +42,9 @@ impl ProjClass {
     }
 }
 
+/// For each node, the other three in increasing order (the face opposite it).
+const OTHERS: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
+
 /// Marks the thick point T as a triangle vertex (0…3 are the cell's nodes).
 pub const THICK: u8 = 4;
 
@@ -120,7 +123,6 @@ impl Projection {
                 (end(&[a, b], &[1.0 - t, t]), end(&[c, d], &[1.0 - u, u]))
             }
             (_, Some(i)) => {
-                const OTHERS: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
                 let [j, k, l] = OTHERS[i];
                 let tp = s[i];
                 let area = cross(sub(s[k], s[j]), sub(s[l], s[j]));
@@ -217,7 +219,6 @@ fn classify_with(
     eye: &[[f64; 3]; 4],
     perspective: bool,
 ) -> Projection {
-    const OTHERS: [[usize; 3]; 4] = [[1, 2, 3], [0, 2, 3], [0, 1, 3], [0, 1, 2]];
     let mut out = Projection {
         class: ProjClass::Flat,
         thick: s[0],
