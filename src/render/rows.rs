@@ -37,9 +37,12 @@ pub struct CellRows {
     /// it (`before`).
     after: u8,
     before: u8,
-    /// `after` and `before` as masks per edge: all ones where set, for branch-free rows.
-    after_mask: [usize; 6],
-    before_mask: [usize; 6],
+    /// `after` and `before` as caps per edge lane, for rows bounded in vector registers: a
+    /// split s counts as `min(s, after_cap)` towards the row's first pixel (+∞ where the edge
+    /// bounds it from the left, else −∞, which drops out of the maximum) and as
+    /// `max(s, before_floor)` towards its end (−∞ where it bounds it from the right, else +∞).
+    after_cap: [f64; EDGES],
+    before_floor: [f64; EDGES],
     /// Pixel centres of the outline's bounding box within the tile.
     x0: usize,
     x1: usize,
@@ -86,8 +89,8 @@ impl CellRows {
             needed: inner,
             after: 0,
             before: 0,
-            after_mask: [0; 6],
-            before_mask: [0; 6],
+            after_cap: [f64::NEG_INFINITY; EDGES],
+            before_floor: [f64::INFINITY; EDGES],
             x0: 0,
             x1: 0,
             y0: 0,
@@ -124,16 +127,12 @@ impl CellRows {
             }
         }
         for e in 0..6 {
-            rows.after_mask[e] = if rows.after & (1 << e) != 0 {
-                usize::MAX
-            } else {
-                0
-            };
-            rows.before_mask[e] = if rows.before & (1 << e) != 0 {
-                usize::MAX
-            } else {
-                0
-            };
+            if rows.after & (1 << e) != 0 {
+                rows.after_cap[e] = f64::INFINITY;
+            }
+            if rows.before & (1 << e) != 0 {
+                rows.before_floor[e] = f64::NEG_INFINITY;
+            }
         }
         // Pixel centres within the outline's bounding box, as the scan conversion takes them.
         if let Some([x0, x1, y0, y1]) = pixel_box(hull, rect) {
@@ -160,7 +159,7 @@ impl CellRows {
         let (x0, x1) = (self.x0 as f64, self.x1 as f64);
         let mut root = [0.0; EDGES];
         let mut margin = [0.0; EDGES];
-        let mut at = [0usize; EDGES];
+        let mut split = [0.0; EDGES];
         let mut unsure = 0u8;
         for e in 0..EDGES {
             let t = (py - self.uy[e]) * self.inv[e];
@@ -174,10 +173,8 @@ impl CellRows {
             // (`&`, not `&&`: no branches, so the loop runs in vector registers.)
             let sure = r.is_finite() & (r - (first - 0.5) > m) & ((first + 0.5) - r > m);
             unsure |= (!sure as u8) << e;
-            // A whole number in [x0, x1] (max/min drop a NaN), below 2³¹: its value is the low
-            // bits of its sum with 2⁵² — a vector addition instead of a saturating conversion.
-            let split = first.max(x0).min(x1);
-            at[e] = ((split + TWO_52).to_bits() as u32) as usize;
+            // A whole number in [x0, x1] (max/min drop a NaN).
+            split[e] = first.max(x0).min(x1);
         }
         // The edges whose estimate left a pixel centre in doubt: the exact predicate (rare).
         let mut doubt = unsure & self.needed;
@@ -186,16 +183,36 @@ impl CellRows {
             doubt &= doubt - 1;
             let [u, v] = self.ends[e];
             let test = |x: usize| inside(u, v, [x as f64 + 0.5, py]);
-            at[e] = boundary(test, root[e], margin[e], u[1] - v[1], self.x0, self.x1);
+            split[e] = boundary(test, root[e], margin[e], u[1] - v[1], self.x0, self.x1) as f64;
         }
-        // Without branches: the outline's edges bound the row from the left (`after`) or the
-        // right (`before`); masks of all ones or zeros pick them.
-        let (mut from, mut to) = (self.x0, self.x1);
-        for e in 0..6 {
-            from = from.max(at[e] & self.after_mask[e]);
-            to = to.min(at[e] | !self.before_mask[e]);
+        // Without branches, still in vector registers: the outline's edges bound the row from
+        // the left (`after`) or the right (`before`); the caps drop the others out (the padding
+        // lanes too: −∞ and +∞). The splits are whole numbers, so the bounds are exact.
+        // (Comparisons and selects, not `f64::max`: no NaN here, and these are single
+        // vector instructions, where `max`'s NaN rule costs three.)
+        let max = |a: f64, b: f64| if a > b { a } else { b };
+        let min = |a: f64, b: f64| if a < b { a } else { b };
+        let mut lo = [0.0; EDGES];
+        let mut hi = [0.0; EDGES];
+        for e in 0..EDGES {
+            lo[e] = min(split[e], self.after_cap[e]);
+            hi[e] = max(split[e], self.before_floor[e]);
         }
-        let at6 = [at[0], at[1], at[2], at[3], at[4], at[5]];
+        // Halving the lanes each step: whole registers until the last pair.
+        let mut w = EDGES / 2;
+        while w > 0 {
+            for e in 0..w {
+                lo[e] = max(lo[e], lo[e + w]);
+                hi[e] = min(hi[e], hi[e + w]);
+            }
+            w /= 2;
+        }
+        let (from, to) = (max(x0, lo[0]), min(x1, hi[0]));
+        // Whole numbers in [x0, x1], below 2³¹: their values are the low bits of their sums
+        // with 2⁵² — vector additions instead of saturating conversions.
+        let whole = |v: f64| ((v + TWO_52).to_bits() as u32) as usize;
+        let (from, to) = (whole(from), whole(to));
+        let at6 = std::array::from_fn(|e| whole(split[e]));
         (from < to).then(|| (from, to, Row::new(at6, self.rising)))
     }
 }
