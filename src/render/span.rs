@@ -28,6 +28,10 @@ use crate::integrate::linear_lanes::{MAX_TERMS, madd, moments_with, terms_for};
 /// Pixels per batch: one AVX-512 register of f64, two AVX2 registers.
 const LANES: usize = 8;
 
+/// Pixels a row writes whatever its length ([`SpanBuffer::push_pixels`]): two batches. Room for
+/// them is reserved past every row.
+const PIXELS_AHEAD: usize = 2 * LANES;
+
 /// One cell's integrand: `[η_r, η_g, η_b, χ]`, each `q[k][0] + q[k][1]·x + q[k][2]·y +
 /// τ·(q[k][3] + q[k][4]·x + q[k][5]·y)` at pixel position (x, y) and depth τ — or one piece of
 /// it ([`Clip`]).
@@ -196,7 +200,7 @@ impl SpanBuffer {
     /// twelve pixels).
     #[inline(always)]
     fn reserve_cell(&mut self, rows: &CellRows) {
-        self.reserve(rows.area() + LANES);
+        self.reserve(rows.area() + PIXELS_AHEAD);
     }
 
     /// One pixel (the tile loop gathers whole runs with [`SpanBuffer::push_run`]).
@@ -296,25 +300,38 @@ impl SpanBuffer {
     fn push_pixels<const RESERVED: bool>(&mut self, slot: usize, x0: usize, x1: usize, py: f64) {
         let len = x1 - x0;
         if !RESERVED {
-            self.reserve(len + LANES);
+            self.reserve(len + PIXELS_AHEAD);
         }
         let px0 = x0 as f64 + 0.5;
         // Through slices taken once (see `push_run_view`).
-        let at = self.n..self.n + len.div_ceil(LANES) * LANES;
+        let at = self.n..self.n + len.div_ceil(LANES).max(PIXELS_AHEAD / LANES) * LANES;
         let (slots, xs, ys) = (
             &mut self.slot[at.clone()],
             &mut self.x[at.clone()],
             &mut self.y[at],
         );
-        let mut k = 0;
+        macro_rules! batch {
+            ($k:expr) => {{
+                let k: usize = $k;
+                let r = k..k + LANES;
+                let sl: [u32; LANES] = std::array::from_fn(|l| (slot + k + l) as u32);
+                // Integers and halves: the same value as `(x0 + k + l) as f64 + 0.5`.
+                let xv: [f64; LANES] = std::array::from_fn(|l| (px0 + k as f64) + l as f64);
+                slots[r.clone()].copy_from_slice(&sl);
+                xs[r.clone()].copy_from_slice(&xv);
+                ys[r].fill(py);
+            }};
+        }
+        // The first `PIXELS_AHEAD` unconditionally (most rows are shorter: the lanes past the
+        // row are stale, overwritten by the next row or never read), so that a row's length
+        // decides no branch unless it is long (a loop's data-dependent exit after one or two
+        // batches, mispredicted often). A macro, not a closure: a closure is compiled for the
+        // baseline target, not for the kernel's.
+        batch!(0);
+        batch!(LANES);
+        let mut k = PIXELS_AHEAD;
         while k < len {
-            let r = k..k + LANES;
-            let sl: [u32; LANES] = std::array::from_fn(|l| (slot + k + l) as u32);
-            // Integers and halves: the same value as `(x0 + k + l) as f64 + 0.5`.
-            let xv: [f64; LANES] = std::array::from_fn(|l| (px0 + k as f64) + l as f64);
-            slots[r.clone()].copy_from_slice(&sl);
-            xs[r.clone()].copy_from_slice(&xv);
-            ys[r].fill(py);
+            batch!(k);
             k += LANES;
         }
         self.n += len;
