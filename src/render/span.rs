@@ -877,6 +877,16 @@ fn batch<const L: usize, const CLIP: bool, const PERSP: bool, const FMA: bool>(
             near[l] = n;
             far[l] = f.max(n);
         }
+        // No lane's segment reaches into this piece (most batches of a cell that a knot
+        // crosses lie on one side of it): a segment of length zero adds nothing (b = 0) and
+        // dims nothing (θ = 1), so skipping the batch gives the same bits.
+        let mut reaches = false;
+        for l in 0..L {
+            reaches |= far[l] > near[l];
+        }
+        if !reaches {
+            return;
+        }
     }
     // Quantity k (η_r, η_g, η_b, χ) at the far and near end of lane l. The colours are only
     // needed after the series: computed there, the series' loop is not crowded out of the
