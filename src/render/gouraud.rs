@@ -52,6 +52,18 @@ pub struct Fan {
     count: usize,
 }
 
+/// The shading kernels' precondition: `n` whole batches of `step` pixels, and every slice
+/// holding them (the kernels read and write through raw pointers up to `n`).
+#[cfg(target_arch = "x86_64")]
+fn shade_bounds(step: usize, n: usize, xs: &[f64], ys: &[f64], out: &[&mut [f64]; 4]) {
+    assert!(
+        n.is_multiple_of(step)
+            && xs.len() >= n
+            && ys.len() >= n
+            && out.iter().all(|o| o.len() >= n)
+    );
+}
+
 impl Fan {
     /// The fan of an unclipped footprint with `values[v]` at each fan vertex (0…3 the nodes,
     /// [`THICK`] the thick point). `None` for a footprint without a Shirley–Tuchman split.
@@ -156,6 +168,27 @@ impl Fan {
         out
     }
 
+    /// Per plane k (T's weight, θ, R, G, B) and coefficient (c, x, y): the four sectors'
+    /// numbers, as the shading kernels load them into lanes 0…3.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    fn coefficients(&self) -> [[[f64; 4]; 3]; 5] {
+        // Plain loops (no closures: those are compiled for the baseline target, and this runs
+        // once per cell inside the kernels).
+        let mut t = [[[0.0; 4]; 3]; 5];
+        for (m, s) in self.sectors.iter().enumerate() {
+            for (k, p) in [s.thick, s.values[0], s.values[1], s.values[2], s.values[3]]
+                .iter()
+                .enumerate()
+            {
+                t[k][0][m] = p.c;
+                t[k][1][m] = p.x;
+                t[k][2][m] = p.y;
+            }
+        }
+        t
+    }
+
     /// [`Fan::at_lanes`] followed by [`shade`] with `brightness`, over the first `n` pixels
     /// (a multiple of 8) of `xs`, `ys`, into `out` (`b` RGB and θ), with AVX-512. Each lane
     /// picks its sector with [`Fan::at_lanes`]' comparisons, then evaluates only that sector's
@@ -176,23 +209,14 @@ impl Fan {
         out: [&mut [f64]; 4],
     ) {
         use std::arch::x86_64::*;
-        assert!(
-            n.is_multiple_of(8)
-                && xs.len() >= n
-                && ys.len() >= n
-                && out.iter().all(|o| o.len() >= n)
-        );
-        // Per value k (T's weight, θ, R, G, B) and coefficient (c, x, y): the four sectors'
-        // numbers in lanes 0…3.
-        let coef = |k: usize, part: fn(&Plane) -> f64| {
-            let p = |m: usize| {
-                let s = &self.sectors[m];
-                part(if k == 0 { &s.thick } else { &s.values[k - 1] })
-            };
-            _mm512_setr_pd(p(0), p(1), p(2), p(3), 0.0, 0.0, 0.0, 0.0)
-        };
-        let table: [[__m512d; 3]; 5] =
-            std::array::from_fn(|k| [coef(k, |p| p.c), coef(k, |p| p.x), coef(k, |p| p.y)]);
+        shade_bounds(8, n, xs, ys, &out);
+        let t = self.coefficients();
+        let table: [[__m512d; 3]; 5] = std::array::from_fn(|k| {
+            std::array::from_fn(|c| {
+                let [a, b, c, d] = t[k][c];
+                _mm512_setr_pd(a, b, c, d, 0.0, 0.0, 0.0, 0.0)
+            })
+        });
         let bright = _mm512_set1_pd(brightness);
         let one = _mm512_set1_pd(1.0);
         let [r, g, b, th] = out;
@@ -253,21 +277,12 @@ impl Fan {
         out: [&mut [f64]; 4],
     ) {
         use std::arch::x86_64::*;
-        assert!(
-            n.is_multiple_of(4)
-                && xs.len() >= n
-                && ys.len() >= n
-                && out.iter().all(|o| o.len() >= n)
-        );
-        let coef = |k: usize, part: fn(&Plane) -> f64| {
-            let p = |m: usize| {
-                let s = &self.sectors[m];
-                part(if k == 0 { &s.thick } else { &s.values[k - 1] })
-            };
-            _mm256_setr_pd(p(0), p(1), p(2), p(3))
-        };
-        let table: [[__m256d; 3]; 5] =
-            std::array::from_fn(|k| [coef(k, |p| p.c), coef(k, |p| p.x), coef(k, |p| p.y)]);
+        shade_bounds(4, n, xs, ys, &out);
+        let t = self.coefficients();
+        // SAFETY: four f64 per entry, as the load reads.
+        let table: [[__m256d; 3]; 5] = std::array::from_fn(|k| {
+            std::array::from_fn(|c| unsafe { _mm256_loadu_pd(t[k][c].as_ptr()) })
+        });
         // Sector m's 32-bit halves, in every lane.
         let pick = |m: i32| {
             _mm256_castsi256_pd(_mm256_setr_epi32(

@@ -33,14 +33,11 @@ pub struct CellRows {
     rising: [bool; 6],
     /// The edges asked about: the outline's and the inner ones the faces test.
     needed: u8,
-    /// Outline edges inside which the footprint lies from the crossing on (`after`), or before
-    /// it (`before`).
-    after: u8,
-    before: u8,
-    /// `after` and `before` as caps per edge lane, for rows bounded in vector registers: a
-    /// split s counts as `min(s, after_cap)` towards the row's first pixel (+∞ where the edge
-    /// bounds it from the left, else −∞, which drops out of the maximum) and as
-    /// `max(s, before_floor)` towards its end (−∞ where it bounds it from the right, else +∞).
+    /// The outline edges as caps per edge lane, for rows bounded in vector registers: a split s
+    /// counts as `min(s, after_cap)` towards the row's first pixel (+∞ where the footprint lies
+    /// inside the edge from its crossing on, else −∞, which drops out of the maximum) and as
+    /// `max(s, before_floor)` towards its end (−∞ where it lies inside before the crossing, else
+    /// +∞).
     after_cap: [f64; EDGES],
     before_floor: [f64; EDGES],
     /// Pixel centres of the outline's bounding box within the tile.
@@ -87,8 +84,6 @@ impl CellRows {
             ends: [[[0.0; 2]; 2]; 6],
             rising: [true; 6],
             needed: inner,
-            after: 0,
-            before: 0,
             after_cap: [f64::NEG_INFINITY; EDGES],
             before_floor: [f64::INFINITY; EDGES],
             x0: 0,
@@ -121,16 +116,8 @@ impl CellRows {
             let flip = a > b;
             rows.needed |= 1 << e;
             if rows.rising[e] != flip {
-                rows.after |= 1 << e;
-            } else {
-                rows.before |= 1 << e;
-            }
-        }
-        for e in 0..6 {
-            if rows.after & (1 << e) != 0 {
                 rows.after_cap[e] = f64::INFINITY;
-            }
-            if rows.before & (1 << e) != 0 {
+            } else {
                 rows.before_floor[e] = f64::NEG_INFINITY;
             }
         }
