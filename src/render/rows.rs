@@ -31,8 +31,9 @@ pub struct CellRows {
     ends: [[[f64; 2]; 2]; 6],
     /// Pixels inside the edge from its crossing on (else before it).
     rising: [bool; 6],
-    /// The edges asked about: the outline's and the inner ones the faces test.
-    needed: u8,
+    /// The edges asked about: the outline's and the inner ones the faces test (1 in a lane per
+    /// edge, so that the rows test them all at once).
+    need: [u64; EDGES],
     /// The outline edges as caps per edge lane, for rows bounded in vector registers: a split s
     /// counts as `min(s, after_cap)` towards the row's first pixel (+∞ where the footprint lies
     /// inside the edge from its crossing on, else −∞, which drops out of the maximum) and as
@@ -83,7 +84,7 @@ impl CellRows {
             inv: [f64::NAN; EDGES],
             ends: [[[0.0; 2]; 2]; 6],
             rising: [true; 6],
-            needed: inner,
+            need: std::array::from_fn(|e| (inner >> e) as u64 & 1),
             after_cap: [f64::NEG_INFINITY; EDGES],
             before_floor: [f64::INFINITY; EDGES],
             x0: 0,
@@ -114,7 +115,7 @@ impl CellRows {
             // node, outside it otherwise (the two sides, ties included, are complementary).
             let e = EDGE_OF[a][b] as usize;
             let flip = a > b;
-            rows.needed |= 1 << e;
+            rows.need[e] = 1;
             if rows.rising[e] != flip {
                 rows.after_cap[e] = f64::INFINITY;
             } else {
@@ -147,7 +148,9 @@ impl CellRows {
         let mut root = [0.0; EDGES];
         let mut margin = [0.0; EDGES];
         let mut split = [0.0; EDGES];
-        let mut unsure = 0u8;
+        // Per lane 1 where the estimate leaves a pixel centre in doubt and the edge is needed
+        // (whole-number lanes, not `bool`s: those are packed byte by byte).
+        let mut doubt = [0u64; EDGES];
         for e in 0..EDGES {
             let t = (py - self.uy[e]) * self.inv[e];
             let r = self.ux[e] + t;
@@ -156,21 +159,32 @@ impl CellRows {
             let first = (r - 0.5).floor() + 1.0;
             root[e] = r;
             margin[e] = m;
-            // No pixel centre within the margin: every centre's side is certain.
+            // No pixel centre within the margin: every centre's side is certain. A NaN or
+            // infinite estimate fails both comparisons (∞ − ∞ is NaN), so it is never sure.
             // (`&`, not `&&`: no branches, so the loop runs in vector registers.)
-            let sure = r.is_finite() & (r - (first - 0.5) > m) & ((first + 0.5) - r > m);
-            unsure |= (!sure as u8) << e;
-            // A whole number in [x0, x1] (max/min drop a NaN).
-            split[e] = first.max(x0).min(x1);
+            let sure = (r - (first - 0.5) > m) & ((first + 0.5) - r > m);
+            doubt[e] = (!sure) as u64 & self.need[e];
+            // A whole number in [x0, x1]; a NaN (an edge along the row) fails both comparisons
+            // and becomes x0. (Comparisons and selects: `f64::max`'s NaN rule costs three
+            // instructions where these cost one.)
+            let s = if first > x0 { first } else { x0 };
+            split[e] = if s < x1 { s } else { x1 };
         }
         // The edges whose estimate left a pixel centre in doubt: the exact predicate (rare).
-        let mut doubt = unsure & self.needed;
-        while doubt != 0 {
-            let e = doubt.trailing_zeros() as usize;
-            doubt &= doubt - 1;
-            let [u, v] = self.ends[e];
-            let test = |x: usize| inside(u, v, [x as f64 + 0.5, py]);
-            split[e] = boundary(test, root[e], margin[e], u[1] - v[1], self.x0, self.x1) as f64;
+        // First one test for all lanes at once, then edge by edge only where one is in doubt.
+        let mut any = 0;
+        for d in doubt {
+            any |= d;
+        }
+        if any != 0 {
+            for e in 0..6 {
+                if doubt[e] != 0 {
+                    let [u, v] = self.ends[e];
+                    let test = |x: usize| inside(u, v, [x as f64 + 0.5, py]);
+                    split[e] =
+                        boundary(test, root[e], margin[e], u[1] - v[1], self.x0, self.x1) as f64;
+                }
+            }
         }
         // Without branches, still in vector registers: the outline's edges bound the row from
         // the left (`after`) or the right (`before`); the caps drop the others out (the padding
