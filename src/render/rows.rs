@@ -177,9 +177,8 @@ impl CellRows {
             any |= d;
         }
         if any != 0 {
-            for e in 0..6 {
+            for (e, &[u, v]) in self.ends.iter().enumerate() {
                 if doubt[e] != 0 {
-                    let [u, v] = self.ends[e];
                     let test = |x: usize| inside(u, v, [x as f64 + 0.5, py]);
                     split[e] =
                         boundary(test, root[e], margin[e], u[1] - v[1], self.x0, self.x1) as f64;
