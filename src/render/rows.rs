@@ -145,6 +145,11 @@ impl CellRows {
     pub fn row(&self, y: usize) -> Option<(usize, usize, Row)> {
         let py = y as f64 + 0.5;
         let (x0, x1) = (self.x0 as f64, self.x1 as f64);
+        // Comparisons and selects, not `f64::max`/`min`: single vector instructions, where their
+        // NaN rule costs three. `max(a, b)` gives `b` for a NaN `a` (as `f64::max` would); no
+        // NaN reaches `b`.
+        let max = |a: f64, b: f64| if a > b { a } else { b };
+        let min = |a: f64, b: f64| if a < b { a } else { b };
         let mut root = [0.0; EDGES];
         let mut margin = [0.0; EDGES];
         let mut split = [0.0; EDGES];
@@ -164,11 +169,8 @@ impl CellRows {
             // (`&`, not `&&`: no branches, so the loop runs in vector registers.)
             let sure = (r - (first - 0.5) > m) & ((first + 0.5) - r > m);
             doubt[e] = (!sure) as u64 & self.need[e];
-            // A whole number in [x0, x1]; a NaN (an edge along the row) fails both comparisons
-            // and becomes x0. (Comparisons and selects: `f64::max`'s NaN rule costs three
-            // instructions where these cost one.)
-            let s = if first > x0 { first } else { x0 };
-            split[e] = if s < x1 { s } else { x1 };
+            // A whole number in [x0, x1]; a NaN (an edge along the row) becomes x0.
+            split[e] = min(max(first, x0), x1);
         }
         // The edges whose estimate left a pixel centre in doubt: the exact predicate (rare).
         // First one test for all lanes at once, then edge by edge only where one is in doubt.
@@ -188,10 +190,6 @@ impl CellRows {
         // Without branches, still in vector registers: the outline's edges bound the row from
         // the left (`after`) or the right (`before`); the caps drop the others out (the padding
         // lanes too: −∞ and +∞). The splits are whole numbers, so the bounds are exact.
-        // (Comparisons and selects, not `f64::max`: no NaN here, and these are single
-        // vector instructions, where `max`'s NaN rule costs three.)
-        let max = |a: f64, b: f64| if a > b { a } else { b };
-        let min = |a: f64, b: f64| if a < b { a } else { b };
         let mut lo = [0.0; EDGES];
         let mut hi = [0.0; EDGES];
         for e in 0..EDGES {
