@@ -96,7 +96,7 @@ struct Face {
     inner: [bool; 3],
     /// Not a sliver: the depth value as an affine function of the screen position, from the
     /// canonical first node: `z = plane[0] + plane[1]·(x − s[0].x) + plane[2]·(y − s[0].y)`,
-    /// clamped to the face's range `[zmin, zmax]`.
+    /// clamped to the face's range `[zmin, zmax]` (evaluated as [`row_part`] `+ plane[1]·x`).
     plane: [f64; 3],
     zmin: f64,
     zmax: f64,
@@ -335,12 +335,8 @@ impl CellFaces {
         if face.sliver {
             return sliver_depth(face, p, self.perspective);
         }
-        let [z0, gx, gy] = face.plane;
-        let a = face.s[0];
-        // max/min rather than clamp: the same value, and no panic path for a NaN bound.
-        let z = (z0 + gx * (p[0] - a[0]) + gy * (p[1] - a[1]))
-            .max(face.zmin)
-            .min(face.zmax);
+        let z = row_part(face, p[1]) + face.plane[1] * p[0];
+        let z = clamp(z, face.zmin, face.zmax);
         if self.perspective { 1.0 / z } else { z }
     }
 
@@ -353,13 +349,9 @@ impl CellFaces {
         if face.sliver {
             return None;
         }
-        let [z0, gx, gy] = face.plane;
-        let a = face.s[0];
         Some(DepthRow {
-            z0,
-            gx,
-            ax: a[0],
-            dy: gy * (py - a[1]),
+            row: row_part(face, py),
+            gx: face.plane[1],
             lo: face.zmin,
             hi: face.zmax,
             perspective: self.perspective,
@@ -517,13 +509,30 @@ impl RowRuns {
     }
 }
 
+/// The part of a face's depth value that is the same along a screen row at `py`:
+/// `z0 + gy·(py − a.y) − gx·a.x`, so that the depth value at pixel centre x is one product and
+/// one sum, `row_part + gx·x` — the expression [`CellFaces::depth`] and [`DepthRow`] share.
+#[inline(always)]
+fn row_part(face: &Face, py: f64) -> f64 {
+    let [z0, gx, gy] = face.plane;
+    let a = face.s[0];
+    (z0 + gy * (py - a[1])) - gx * a[0]
+}
+
+/// `z` clamped to `[lo, hi]` by comparisons and selects (one instruction each in lanes, where
+/// `f64::max`/`min`'s NaN rule costs three); a NaN `z` becomes `lo`, as `z.max(lo).min(hi)`
+/// would give.
+#[inline(always)]
+fn clamp(z: f64, lo: f64, hi: f64) -> f64 {
+    let z = if z > lo { z } else { lo };
+    if z < hi { z } else { hi }
+}
+
 /// A face's depth along one screen row ([`CellFaces::depth_row`]).
 #[derive(Debug, Clone, Copy)]
 pub struct DepthRow {
-    z0: f64,
+    row: f64,
     gx: f64,
-    ax: f64,
-    dy: f64,
     lo: f64,
     hi: f64,
     perspective: bool,
@@ -536,9 +545,7 @@ impl DepthRow {
     #[inline(always)]
     pub fn at_view<const PERSP: bool>(&self, px: f64) -> f64 {
         debug_assert_eq!(PERSP, self.perspective);
-        let z = (self.z0 + self.gx * (px - self.ax) + self.dy)
-            .max(self.lo)
-            .min(self.hi);
+        let z = clamp(self.row + self.gx * px, self.lo, self.hi);
         if PERSP { 1.0 / z } else { z }
     }
 

@@ -267,6 +267,9 @@ impl SpanBuffer {
         );
         let (nears, fars) = (&mut self.near[at.clone()], &mut self.far[at]);
         let mut k = 0;
+        // The batch's first pixel centre, counted along in `f64` (a conversion from a whole
+        // number per batch was a chain of five instructions ahead of the depths).
+        let mut pxk = px0;
         while k < len {
             let r = k..k + P;
             let mut sl = [0u32; P];
@@ -275,14 +278,17 @@ impl SpanBuffer {
             let mut fs = [0.0; P];
             for l in 0..P {
                 // Integers and halves: the same value as `(x0 + k + l) as f64 + 0.5`.
-                let px = (px0 + k as f64) + l as f64;
+                let px = pxk + l as f64;
                 let n = near.at_view::<PERSP>(px);
                 sl[l] = (slot + k + l) as u32;
                 xv[l] = px;
                 ns[l] = n;
-                // Rounding can put a face crossing ~1e-16 past the other one.
-                fs[l] = far.at_view::<PERSP>(px).max(n);
+                // Rounding can put a face crossing ~1e-16 past the other one (a compare and
+                // select: `max`'s NaN rule costs three instructions; a NaN becomes `n` either way).
+                let f = far.at_view::<PERSP>(px);
+                fs[l] = if f > n { f } else { n };
             }
+            pxk += P as f64;
             slots[r.clone()].copy_from_slice(&sl);
             xs[r.clone()].copy_from_slice(&xv);
             ys[r.clone()].fill(py);
