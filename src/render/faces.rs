@@ -511,7 +511,11 @@ impl RowRuns {
 
 /// The part of a face's depth value that is the same along a screen row at `py`:
 /// `z0 + gy·(py − a.y) − gx·a.x`, so that the depth value at pixel centre x is one product and
-/// one sum, `row_part + gx·x` — the expression [`CellFaces::depth`] and [`DepthRow`] share.
+/// one sum, `row_part + gx·x` — the expression [`CellFaces::depth`] and [`DepthRow`] share, so
+/// both cells of a face still get the same number. Its rounding is a few ulps of `gx·x` rather
+/// than of `gx·(x − a.x)`: for a face one pixel long at x = 4096 (a face that is not a sliver
+/// has `|gx|` at most about 10³ times its depth range per pixel) about 10⁻¹⁰ of the face's depth
+/// range, where the image keeps 10⁻⁷.
 #[inline(always)]
 fn row_part(face: &Face, py: f64) -> f64 {
     let [z0, gx, gy] = face.plane;
