@@ -11,7 +11,7 @@
 //! largest. Orientation tests are exact (Shewchuk's predicates), so the class is decided
 //! consistently even for degenerate views.
 
-use robust::{Coord, orient2d};
+use super::faces::orient_sign as sign;
 
 use crate::mesh::orientation;
 
@@ -140,21 +140,6 @@ impl Projection {
         } else {
             ThickEnds { near: b, far: a }
         })
-    }
-}
-
-fn sign(p: [f64; 2], q: [f64; 2], r: [f64; 2]) -> i8 {
-    let o = orient2d(
-        Coord { x: p[0], y: p[1] },
-        Coord { x: q[0], y: q[1] },
-        Coord { x: r[0], y: r[1] },
-    );
-    if o > 0.0 {
-        1
-    } else if o < 0.0 {
-        -1
-    } else {
-        0
     }
 }
 
