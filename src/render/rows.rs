@@ -13,7 +13,7 @@
 
 #[cfg(doc)]
 use super::faces::CellFaces;
-use super::faces::{EDGE_OF, Row, inside};
+use super::faces::{EDGE_OF, Row, inside, max_select, min_select};
 use super::raster::{ROOT_ERROR, Rect, boundary, pixel_box};
 use crate::mesh::EDGE_NODES;
 
@@ -145,11 +145,9 @@ impl CellRows {
     pub fn row(&self, y: usize) -> Option<(usize, usize, Row)> {
         let py = y as f64 + 0.5;
         let (x0, x1) = (self.x0 as f64, self.x1 as f64);
-        // Comparisons and selects, not `f64::max`/`min`: single vector instructions, where their
-        // NaN rule costs three. `max(a, b)` gives `b` for a NaN `a` (as `f64::max` would); no
-        // NaN reaches `b`.
-        let max = |a: f64, b: f64| if a > b { a } else { b };
-        let min = |a: f64, b: f64| if a < b { a } else { b };
+        // Comparisons and selects, not `f64::max`/`min` (a NaN `a` gives `b`; no NaN reaches
+        // `b`).
+        let (max, min) = (max_select, min_select);
         let mut root = [0.0; EDGES];
         let mut margin = [0.0; EDGES];
         let mut split = [0.0; EDGES];

@@ -18,7 +18,7 @@
 //! in the last bits (≤ 10⁻¹⁴ in the tests); the thread count changes no bit on any of them.
 
 use super::cell::CellRays;
-use super::faces::{CellFaces, DepthRow, Row};
+use super::faces::{CellFaces, DepthRow, Row, max_select};
 use super::gouraud::{self, Fan};
 use super::raster::{Rect, rasterize_convex_rows};
 use super::rows::CellRows;
@@ -283,10 +283,9 @@ impl SpanBuffer {
                 sl[l] = (slot + k + l) as u32;
                 xv[l] = px;
                 ns[l] = n;
-                // Rounding can put a face crossing ~1e-16 past the other one (a compare and
-                // select: `max`'s NaN rule costs three instructions; a NaN becomes `n` either way).
-                let f = far.at_view::<PERSP>(px);
-                fs[l] = if f > n { f } else { n };
+                // Rounding can put a face crossing ~1e-16 past the other one (a NaN becomes `n`,
+                // as with `f64::max`).
+                fs[l] = max_select(far.at_view::<PERSP>(px), n);
             }
             pxk += P as f64;
             slots[r.clone()].copy_from_slice(&sl);
