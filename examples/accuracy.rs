@@ -41,7 +41,7 @@ fn main() {
         "Every method and integration rule rendered at {SIZE}×{SIZE} and compared, pixel by pixel and channel by"
     );
     println!(
-        "channel (R, G, B, alpha), with the independent reference ray caster (`src/reference.rs`: f64, every ray"
+        "channel (R, G, B, alpha), with the independent reference ray caster (`crates/vorang/src/reference.rs`: f64, every ray"
     );
     println!(
         "against every cell, adaptive Gauss–Legendre quadrature of the optical model to 1e-13). Images are f32, so"
@@ -76,7 +76,7 @@ fn main() {
     println!(
         "  weighted by a large absorption, it is far off; its Gouraud transparency is always too transparent.\n"
     );
-    println!("Scenes (`src/accuracy.rs`):\n");
+    println!("Scenes (`crates/vorang/src/accuracy.rs`):\n");
     let all = scenes();
     for s in &all {
         println!(
@@ -180,7 +180,7 @@ fn degenerate() {
     println!("## Degenerate views, non-convex meshes, mirrors\n");
     for line in [
         "How the renderer stays exact where rays run within rounding of face planes, where rays leave",
-        "and re-enter the mesh, and under mirroring transforms (`src/render/faces.rs`, `runs.rs`):",
+        "and re-enter the mesh, and under mirroring transforms (`crates/vorang/src/render/faces.rs`, `runs.rs`):",
         "",
         "- A pixel's interval in a cell comes from the cell's entry and exit faces, chosen by exact",
         "  orientation predicates with the top-left rule. A face's crossing depth is computed once from",

@@ -1,7 +1,7 @@
 //! Error control on a field that is not polynomial in the cells (issue 11, item 6): the gauss
 //! example scene (GaussTest field, thesis 7) rendered with `exact linear 0` and with `exact` and
 //! the thesis's rules at several steps, each compared with the independent reference renderer
-//! (`src/reference.rs`), with the render time.
+//! (`crates/vorang/src/reference.rs`), with the render time.
 //!
 //! `cargo run --release --example gauss_accuracy -- [SIZE] "exact linear 0 3" "exact constEA 0.002 3" …`
 

@@ -7,7 +7,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use vorang::hypermesh::{self, Encoding, Layout, WriteOptions};
-use vorang::script::{Runner, ScriptError, Terminal};
+use vorang_tcl::script::{Runner, ScriptError, Terminal};
 use vorang::{Error, Volume, info};
 
 /// Direct volume rendering of fields on tetrahedral meshes.
@@ -269,7 +269,7 @@ impl rustyline::completion::Completer for PromptHelper {
         ctx: &rustyline::Context<'_>,
     ) -> rustyline::Result<(usize, Vec<Self::Candidate>)> {
         let names = self.commands.iter().map(String::as_str);
-        match vorang::script::complete::commands_at(line, pos, names) {
+        match vorang_tcl::script::complete::commands_at(line, pos, names) {
             Some((start, found)) => Ok((
                 start,
                 found
@@ -296,7 +296,7 @@ impl rustyline::Helper for PromptHelper {}
 /// default action would report it).
 #[cfg(unix)]
 extern "C" fn interrupted(_: libc::c_int) {
-    if !vorang::script::interrupt::on_interrupt() {
+    if !vorang_tcl::script::interrupt::on_interrupt() {
         // SAFETY: _exit is async-signal-safe.
         unsafe { libc::_exit(130) };
     }

@@ -1,7 +1,7 @@
 //! The build's Tcl version check (issue 16, item 8): Tcl 8.6 is used, Tcl 9 (whose C API
 //! differs) and older versions are refused with a message that says what to install.
 
-#[path = "../build/tcl_check.rs"]
+#[path = "../crates/vorang-tcl/build/tcl_check.rs"]
 mod tcl_check;
 
 use tcl_check::refusal;

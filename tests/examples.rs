@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use vorang::Volume;
-use vorang::script::{Collect, Runner};
+use vorang_tcl::script::{Collect, Runner};
 
 fn copy_dir(from: &Path, to: &Path) {
     std::fs::create_dir_all(to).unwrap();

@@ -11,7 +11,7 @@ use vorang::Volume;
 use vorang::field::Interpolator;
 use vorang::formats;
 use vorang::framebuffer::read_pfm;
-use vorang::script::{Collect, Runner};
+use vorang_tcl::script::{Collect, Runner};
 
 fn data(name: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))

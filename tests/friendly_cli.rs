@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::process::{Command, Stdio};
 
-use vorang::script::{Collect, Runner};
+use vorang_tcl::script::{Collect, Runner};
 
 fn vorang() -> Command {
     Command::new(env!("CARGO_BIN_EXE_vorang"))

@@ -7,7 +7,7 @@ use std::collections::BTreeSet;
 use std::path::PathBuf;
 
 use vorang::mapping::{ALPHA_METHODS, COLOR_METHODS};
-use vorang::script::{Collect, Runner};
+use vorang_tcl::script::{Collect, Runner};
 
 fn repo() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))

@@ -1,4 +1,4 @@
-//! The hand-written image formats (`src/framebuffer/codec/`) checked against independent
+//! The hand-written image formats (`crates/vorang/src/framebuffer/codec/`) checked against independent
 //! readers. `tests/data/images/` holds two small sample pictures written in each format and, in
 //! `expected/`, what Pillow, ImageMagick, Netpbm and Ghostscript decode from those very files
 //! (made by `tests/data/images/make_expected.py`, which says how to run it). The tests here:

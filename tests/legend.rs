@@ -8,7 +8,7 @@ use vorang::Volume;
 use vorang::framebuffer::to_u8;
 use vorang::legend::{ColorScale, Layout, Place};
 use vorang::mapping::{ScalarColor, preset_colormap};
-use vorang::script::{Collect, Runner};
+use vorang_tcl::script::{Collect, Runner};
 
 const MESH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/propEA/propEA.hmesh");
 const W: usize = 220;

@@ -10,7 +10,7 @@ use vorang::mesh::generate::kuhn_box;
 use vorang::reference::Options;
 use vorang::render::{LineDraw, Method, Settings, render};
 use vorang::scene::{Light, LookAt, TransformOp, View};
-use vorang::script::{Collect, Runner};
+use vorang_tcl::script::{Collect, Runner};
 
 /// A 1 × 1 × 0.4 slab (seen along z by the default camera, every ray crosses 0.4) with the
 /// field `f(x) = field(p)` on its nodes.

@@ -7,7 +7,7 @@ use std::path::Path;
 use image::AnimationDecoder;
 use image::codecs::gif::GifDecoder;
 use image::codecs::png::PngDecoder;
-use vorang::script::{Collect, Runner};
+use vorang_tcl::script::{Collect, Runner};
 
 const MESH: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/examples/propEA/propEA.hmesh");
 

@@ -3,7 +3,7 @@
 //! files.
 
 use vorang::mapping::{PRESETS, ScalarAlpha, ScalarColor, preset_colormap, ramp_alphamap};
-use vorang::script::{Collect, Runner};
+use vorang_tcl::script::{Collect, Runner};
 
 fn color_at(name: &str, lo: f64, hi: f64, v: f64) -> [f64; 3] {
     let map = preset_colormap(name, lo, hi, None).unwrap();

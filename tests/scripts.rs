@@ -7,7 +7,7 @@
 
 use std::path::Path;
 
-use vorang::script::{Collect, Runner};
+use vorang_tcl::script::{Collect, Runner};
 
 #[test]
 fn tcl_script_tests() {

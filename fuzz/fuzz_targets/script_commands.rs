@@ -7,7 +7,7 @@ use std::fmt::Write;
 use std::sync::OnceLock;
 
 use libfuzzer_sys::fuzz_target;
-use vorang::script::{Collect, Runner};
+use vorang_tcl::script::{Collect, Runner};
 
 /// Numbers the fuzzer picks from: the edges of every parameter's range and beyond.
 const NUMBERS: &[&str] = &[

@@ -17,7 +17,7 @@ use vorang::framebuffer::write_image;
 use vorang::mapping::{
     AlphaMap, AlphaShading, ColorMap, ColorShading, Mapping, parse_map, read_map,
 };
-use vorang::script::{Reporter, Runner, Terminal};
+use vorang_tcl::script::{Reporter, Runner, Terminal};
 use vorang::{Error, ParseError};
 
 /// The core's error as a Python exception: files → `OSError`, everything else → `ValueError`.

@@ -2,7 +2,7 @@
 """Decodes VoRANG's sample images with independent readers; tests/image_formats.rs compares.
 
 The files `small.EXT` and `wide.EXT` here are what VoRANG's hand-written writers
-(src/framebuffer/codec/) produce for two sample pictures; `VORANG_BLESS=1 cargo test --test
+(crates/vorang/src/framebuffer/codec/) produce for two sample pictures; `VORANG_BLESS=1 cargo test --test
 image_formats` rewrites them. This script decodes each with the readers named in CHECKED
 below and writes every decoding as a binary 8-bit PPM `expected/NAME.EXT.READER.ppm`. The Rust
 test then checks that those decodings hold the pixels the writer meant, so the formats are

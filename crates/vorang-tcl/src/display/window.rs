@@ -2,7 +2,7 @@
 //! size (1:1, no border, no scaling), reused by every `online` render and opened again if the
 //! user closed it.
 
-use crate::render::Rect;
+use vorang::render::Rect;
 use crate::script::tcl::Interp;
 use crate::script::tk::Tk;
 

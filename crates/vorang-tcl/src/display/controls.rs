@@ -2,8 +2,8 @@
 //! do to the method (1–4 choose it, + and − its brightness).
 
 use super::orbit::{Orbit, ZOOM_STEP};
-use crate::render::Method;
-use crate::render::approx::{Exact, InterpolateCoeff, InterpolateColor, Test};
+use vorang::render::Method;
+use vorang::render::approx::{Exact, InterpolateCoeff, InterpolateColor, Test};
 use crate::script::tcl::Interp;
 
 /// Brightness factor per `+` or `−`.
@@ -140,8 +140,8 @@ pub fn method_for_key(n: u32, current: &Method) -> Option<Method> {
     })
 }
 
-fn default_rule() -> &'static crate::integrate::RuleInfo {
-    crate::integrate::find("linear").unwrap_or(&crate::integrate::RULES[0])
+fn default_rule() -> &'static vorang::integrate::RuleInfo {
+    vorang::integrate::find("linear").unwrap_or(&vorang::integrate::RULES[0])
 }
 
 /// `current` with its brightness times `factor` (`test`: its opacity, kept in 0…1).
@@ -173,8 +173,8 @@ mod tests {
 
     #[test]
     fn drags_turn_or_pan_and_keys_act() {
-        let vol = crate::volume::jittered_box(48, 0.0, 1);
-        let view = crate::scene::View::default();
+        let vol = vorang::volume::jittered_box(48, 0.0, 1);
+        let view = vorang::scene::View::default();
         let mut orbit = Orbit::new(&view, &vol, 100, 100).unwrap();
         let mut method = Method::parse(&["interpolateColor", "1"]).unwrap();
         let mut c = Controls::default();

@@ -1,8 +1,8 @@
 //! `addlight`, `removelight` (thesis A.1): the lights the colour method `LIT_EMITTER` shades
-//! with ([`crate::scene::light`]).
+//! with ([`vorang::scene::light`]).
 
 use super::{Call, CommandInfo};
-use crate::scene::Light;
+use vorang::scene::Light;
 use crate::script::Session;
 
 pub const ADDLIGHT: CommandInfo = CommandInfo {

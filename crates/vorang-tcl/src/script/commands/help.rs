@@ -40,20 +40,20 @@ fn describe(name: &str) -> Result<String, String> {
         s.push_str(&format!("\n  {}", c.details));
     }
     if name == "colormap" {
-        for p in crate::mapping::PRESETS {
+        for p in vorang::mapping::PRESETS {
             s.push_str(&format!("\n    {}: {}", p.name, p.summary));
         }
     }
     if name == "colormap" || name == "alphamap" {
-        s.push_str(&format!("\n  {}", crate::mapping::COMPLEX_HELP));
+        s.push_str(&format!("\n  {}", vorang::mapping::COMPLEX_HELP));
     }
     if name == "method" {
         s.push_str("\n  methods:");
-        for m in crate::render::METHODS {
+        for m in vorang::render::METHODS {
             s.push_str(&format!("\n    {} {}: {}", m.name, m.usage, m.summary));
         }
         s.push_str("\n  integration rules:");
-        for r in crate::integrate::RULES {
+        for r in vorang::integrate::RULES {
             s.push_str(&format!("\n    {}: {}", r.name, r.summary));
         }
     }

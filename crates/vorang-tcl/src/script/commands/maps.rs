@@ -1,12 +1,12 @@
 //! `colormap`, `alphamap`, `linedraw`, `legend` (thesis A.1 „Angaben zu Beleuchtung und Darstellung“).
 
 use super::{Call, CommandInfo};
-use crate::legend::Place;
-use crate::mapping::{
+use vorang::legend::Place;
+use vorang::mapping::{
     AlphaMap, AlphaShading, ColorMap, ColorShading, Mapping, preset_colormap, ramp_alphamap,
     read_map,
 };
-use crate::render::LineDraw;
+use vorang::render::LineDraw;
 use crate::script::Session;
 
 /// Binds the maps now if a volume is loaded, so that a mismatch is reported at the command.
@@ -88,7 +88,7 @@ pub const LINEDRAW: CommandInfo = CommandInfo {
                     .flat_map(|v| v.split(','))
                     .filter(|v| !v.trim().is_empty())
                     .map(|v| {
-                        crate::numbers::parse_f64(v.trim()).ok_or_else(|| {
+                        vorang::numbers::parse_f64(v.trim()).ok_or_else(|| {
                             format!("linedraw: expected numbers in the value list, found \"{v}\"")
                         })
                     })
@@ -98,7 +98,7 @@ pub const LINEDRAW: CommandInfo = CommandInfo {
                         field,
                         values: values.clone(),
                     };
-                    crate::render::lines::edges(vol, &lines).map_err(|e| e.to_string())?;
+                    vorang::render::lines::edges(vol, &lines).map_err(|e| e.to_string())?;
                 }
                 LineDraw::Cells { field, values }
             }

@@ -46,7 +46,6 @@
 pub mod accuracy;
 pub mod atomic;
 pub mod data;
-pub mod display;
 pub mod error;
 pub mod field;
 pub mod formats;
@@ -62,7 +61,6 @@ pub mod numbers;
 pub mod reference;
 pub mod render;
 pub mod scene;
-pub mod script;
 pub mod sort;
 pub mod volume;
 

@@ -3,11 +3,11 @@
 use std::sync::Arc;
 
 use super::{Call, CommandInfo};
-use crate::hypermesh::{self, Encoding, Layout, WriteOptions};
-use crate::mapping::{AlphaMap, ColorMap};
-use crate::scene::View;
+use vorang::hypermesh::{self, Encoding, Layout, WriteOptions};
+use vorang::mapping::{AlphaMap, ColorMap};
+use vorang::scene::View;
 use crate::script::Session;
-use crate::volume::Volume;
+use vorang::volume::Volume;
 
 pub const VOLUME: CommandInfo = CommandInfo {
     name: "volume",
@@ -51,10 +51,10 @@ pub const DATA: CommandInfo = CommandInfo {
         };
         let path = c.path(if append { 1 } else { 0 });
         if let Some(desc) =
-            crate::formats::read_description_file(&path).map_err(|e| e.to_string())?
+            vorang::formats::read_description_file(&path).map_err(|e| e.to_string())?
         {
             let (other, warnings) =
-                crate::formats::build::volume(desc).map_err(|e| e.to_string())?;
+                vorang::formats::build::volume(desc).map_err(|e| e.to_string())?;
             let mut next = (**vol).clone();
             next.attach_fields_of(other, append)
                 .map_err(|e| e.to_string())?;
@@ -131,7 +131,7 @@ pub const SAVE_VOLUME: CommandInfo = CommandInfo {
             .as_ref()
             .ok_or("save_volume: no volume loaded: use 'volume file' first")?;
         let path = c.path(0);
-        let format = crate::formats::format_for_writing(&path);
+        let format = vorang::formats::format_for_writing(&path);
         if format.name != "HyperMesh" && c.args().len() > 1 {
             return Err(format!(
                 "save_volume: binary/ascii/small choose the HyperMesh encoding; {} is written as {} (binary appended, zlib)",
@@ -139,7 +139,7 @@ pub const SAVE_VOLUME: CommandInfo = CommandInfo {
                 format.name
             ));
         }
-        let warnings = crate::formats::save_volume(vol, &path, opts).map_err(|e| e.to_string())?;
+        let warnings = vorang::formats::save_volume(vol, &path, opts).map_err(|e| e.to_string())?;
         for w in warnings {
             s.reporter.warn(&w.to_string());
         }

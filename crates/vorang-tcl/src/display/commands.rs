@@ -3,9 +3,9 @@
 //! Tcl reads back exactly, so the commands build the very same `View` and `Method` and render the
 //! saved image bit for bit.
 
-use crate::render::Method;
-use crate::render::lines::LineDraw;
-use crate::scene::{Camera, TransformOp, View};
+use vorang::render::Method;
+use vorang::render::lines::LineDraw;
+use vorang::scene::{Camera, TransformOp, View};
 
 /// The script command that sets `method` (numbers in shortest round-trip form, so the command
 /// gives back the same method bit for bit).
@@ -90,8 +90,8 @@ mod tests {
     use crate::display::controls::{BRIGHTNESS_STEP, scale_brightness};
     use crate::display::orbit::Orbit;
 
-    fn unit_box() -> crate::volume::Volume {
-        crate::volume::jittered_box(48, 0.0, 1)
+    fn unit_box() -> vorang::volume::Volume {
+        vorang::volume::jittered_box(48, 0.0, 1)
     }
 
     #[test]

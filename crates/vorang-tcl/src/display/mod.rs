@@ -17,7 +17,7 @@ mod window;
 
 pub use window::Window;
 
-use crate::framebuffer::{output_pixel, to_u8};
+use vorang::framebuffer::{output_pixel, to_u8};
 use crate::script::tcl::Interp;
 use crate::script::tk::Tk;
 
@@ -42,7 +42,7 @@ impl Display {
 }
 
 /// Float pixels as the 8-bit RGBA a window shows: what an 8-bit file of a framebuffer that is
-/// `transparent` or not holds ([`crate::framebuffer::Framebuffer::to_rgba8`]), but opaque — a
+/// `transparent` or not holds ([`vorang::framebuffer::Framebuffer::to_rgba8`]), but opaque — a
 /// window has nothing to show through, so straight colour is shown as it is.
 pub fn rgba8(pixels: &[[f32; 4]], transparent: bool) -> Vec<u8> {
     pixels

@@ -2,7 +2,7 @@
 //! `vol_rotate`, `look_at` (thesis A.1; conventions SPEC §5).
 
 use super::{Call, CommandInfo};
-use crate::scene::{Camera, LookAt, TransformOp};
+use vorang::scene::{Camera, LookAt, TransformOp};
 use crate::script::Session;
 
 pub const PERSP_CAMERA: CommandInfo = CommandInfo {

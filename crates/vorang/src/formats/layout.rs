@@ -456,7 +456,7 @@ mod tests {
     use super::*;
 
     fn written(text_edit: impl Fn(String) -> String) -> MeshDescription {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
         let file = crate::hypermesh::read_file(&root.join("tests/data/two_tets_data.hmesh"))
             .unwrap_or_else(|e| panic!("{e}"));
         let vol = Volume::from_file(file).unwrap_or_else(|e| panic!("{e}"));

@@ -40,7 +40,7 @@ pub fn markdown() -> String {
     line("");
     line("| method | parameters | what it does |");
     line("|---|---|---|");
-    for m in crate::render::METHODS {
+    for m in vorang::render::METHODS {
         line(&format!(
             "| `{}` | `{}` | {} |",
             m.name,
@@ -55,7 +55,7 @@ pub fn markdown() -> String {
     line("");
     line("| rule | what it does |");
     line("|---|---|");
-    for r in crate::integrate::RULES {
+    for r in vorang::integrate::RULES {
         line(&format!("| `{}` | {} |", r.name, cell(r.summary)));
     }
     line("");
@@ -63,7 +63,7 @@ pub fn markdown() -> String {
     line("");
     line("| method | parameter block | what it does |");
     line("|---|---|---|");
-    for m in crate::mapping::COLOR_METHODS {
+    for m in vorang::mapping::COLOR_METHODS {
         line(&format!(
             "| `{}` | {} | {} |",
             m.name,
@@ -72,13 +72,13 @@ pub fn markdown() -> String {
         ));
     }
     line("");
-    line(crate::mapping::COMPLEX_HELP);
+    line(vorang::mapping::COMPLEX_HELP);
     line("");
     line("## Opacity shading methods (alphamap files)");
     line("");
     line("| method | parameter block | what it does |");
     line("|---|---|---|");
-    for m in crate::mapping::ALPHA_METHODS {
+    for m in vorang::mapping::ALPHA_METHODS {
         line(&format!(
             "| `{}` | {} | {} |",
             m.name,
@@ -91,7 +91,7 @@ pub fn markdown() -> String {
     line("");
     line("| interpolator | written | what it does |");
     line("|---|---|---|");
-    for f in crate::field::INTERPOLATORS {
+    for f in vorang::field::INTERPOLATORS {
         let mut row = String::new();
         let _ = write!(
             row,

@@ -8,11 +8,11 @@ use std::sync::mpsc::{Receiver, Sender};
 use std::time::Instant;
 
 use super::rgba8;
-use crate::framebuffer::{Background, Framebuffer};
-use crate::mapping::Mapping;
-use crate::render::{Rect, Settings, TileSink, Watch, render_watched};
-use crate::scene::View;
-use crate::volume::Volume;
+use vorang::framebuffer::{Background, Framebuffer};
+use vorang::mapping::Mapping;
+use vorang::render::{Rect, Settings, TileSink, Watch, render_watched};
+use vorang::scene::View;
+use vorang::volume::Volume;
 
 /// A frame to render: `refined` with the chosen method, else a preview.
 pub struct Job {

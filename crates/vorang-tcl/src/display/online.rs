@@ -6,7 +6,7 @@ use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
 use super::{Window, rgba8};
-use crate::render::{Rect, TileSink};
+use vorang::render::{Rect, TileSink};
 
 /// How often the Tcl thread lets Tk handle events while a render runs.
 const EVENT_INTERVAL: Duration = Duration::from_millis(30);

@@ -16,9 +16,9 @@
 //! the volume's bounding sphere, so no turn moves any part out of the window or the depth range.
 //! The commands that build the view again: [`super::commands`].
 
-use crate::scene::transform::{cross, dot, norm};
-use crate::scene::{Camera, LookAt, TransformOp, View};
-use crate::volume::Volume;
+use vorang::scene::transform::{cross, dot, norm};
+use vorang::scene::{Camera, LookAt, TransformOp, View};
+use vorang::volume::Volume;
 
 /// Degrees of turn per pixel dragged.
 pub const DEGREES_PER_PIXEL: f64 = 0.5;
@@ -223,7 +223,7 @@ mod tests {
     use super::*;
 
     fn unit_box() -> Volume {
-        crate::volume::jittered_box(48, 0.0, 1)
+        vorang::volume::jittered_box(48, 0.0, 1)
     }
 
     #[test]
@@ -236,7 +236,7 @@ mod tests {
         assert!((deg - 90.0).abs() < 1e-9, "{deg}");
         assert!(axis[0].abs() < 1e-12 && axis[1] > 0.0 && axis[2].abs() < 1e-12);
         // The near side (+z, towards the default eye looking along −z) moves to the right.
-        let r = crate::scene::Affine::rotation(axis, deg).unwrap();
+        let r = vorang::scene::Affine::rotation(axis, deg).unwrap();
         let p = r.apply([0.0, 0.0, 1.0]);
         assert!((p[0] - 1.0).abs() < 1e-9, "{p:?}");
         // Two turns compose; reset forgets them.

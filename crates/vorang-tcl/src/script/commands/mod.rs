@@ -112,7 +112,7 @@ impl<'a> Call<'a> {
     /// Argument `i` as a finite number; the message names the argument `what`.
     pub fn number(&self, i: usize, what: &str) -> Result<f64, String> {
         let word = self.args().get(i).map_or("", |w| w.as_str());
-        crate::numbers::parse_f64(word.trim()).ok_or_else(|| {
+        vorang::numbers::parse_f64(word.trim()).ok_or_else(|| {
             format!(
                 "{}: expected a number for \"{what}\" but got \"{word}\"",
                 self.info.name

@@ -23,10 +23,10 @@ use std::sync::Arc;
 
 pub use commands::{COMMANDS, CommandInfo};
 
-use crate::mapping::{AlphaMap, ColorMap};
-use crate::render::Settings;
-use crate::scene::View;
-use crate::volume::Volume;
+use vorang::mapping::{AlphaMap, ColorMap};
+use vorang::render::Settings;
+use vorang::scene::View;
+use vorang::volume::Volume;
 use tcl::Interp;
 
 /// Where messages go: the render line and notes to standard output, warnings to standard
@@ -80,9 +80,9 @@ pub struct Session {
     /// The number of the next image (the first is 1).
     pub next_number: u32,
     /// `legend on ?position?`: where the colour legend goes (none by default).
-    pub legend: Option<crate::legend::Place>,
+    pub legend: Option<vorang::legend::Place>,
     /// `movie FILE`: while open, renders add frames to it instead of writing images.
-    pub movie: Option<crate::movie::Movie>,
+    pub movie: Option<vorang::movie::Movie>,
     /// What `help` last returned: `vorang -e 'help …'` and piped scripts print their result
     /// when it is this text (other results, such as a render's file name, stay quiet).
     pub last_help: Option<String>,

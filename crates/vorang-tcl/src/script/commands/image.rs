@@ -3,7 +3,7 @@
 use std::sync::Arc;
 
 use super::{Call, CommandInfo};
-use crate::framebuffer::{Background, BackgroundImage, format_for};
+use vorang::framebuffer::{Background, BackgroundImage, format_for};
 use crate::script::Session;
 
 pub const IMAGESIZE: CommandInfo = CommandInfo {
@@ -14,7 +14,7 @@ pub const IMAGESIZE: CommandInfo = CommandInfo {
     run: |s: &mut Session, c: &Call| {
         c.expect(2..=2)?;
         let (w, h) = (c.count(0, "width")?, c.count(1, "height")?);
-        crate::render::check_size(w, h).map_err(|e| format!("imagesize: {e}"))?;
+        vorang::render::check_size(w, h).map_err(|e| format!("imagesize: {e}"))?;
         s.settings.width = w;
         s.settings.height = h;
         Ok(String::new())
@@ -106,11 +106,11 @@ pub const MOVIE: CommandInfo = CommandInfo {
             10.0
         };
         let path = c.path(0);
-        crate::movie::MovieFormat::for_path(&path).map_err(|e| format!("movie: {e}"))?;
+        vorang::movie::MovieFormat::for_path(&path).map_err(|e| format!("movie: {e}"))?;
         if let Some((_, msg)) = s.close_movie()? {
             s.reporter.info(&msg);
         }
-        s.movie = Some(crate::movie::Movie::open(&path, fps).map_err(|e| format!("movie: {e}"))?);
+        s.movie = Some(vorang::movie::Movie::open(&path, fps).map_err(|e| format!("movie: {e}"))?);
         Ok(String::new())
     },
 };

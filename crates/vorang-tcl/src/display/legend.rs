@@ -1,14 +1,14 @@
 //! The viewer's colour legend: the transfer function over the data range, so that the colours
 //! in the picture can be read as values.
 //!
-//! Drawn for the common one-dimensional case ([`crate::mapping::Mapping::transfer`]: one scalar
+//! Drawn for the common one-dimensional case ([`vorang::mapping::Mapping::transfer`]: one scalar
 //! field mapped by tables or constants). The upper band is the emission η, scaled so that its
 //! largest channel over the range is 1 (a dim map stays readable; the picture's brightness is
 //! the method's factor); the lower band is the absorption χ as a dark bar whose height is χ
 //! relative to its largest value.
 
-use crate::mapping::Mapping;
-use crate::volume::Volume;
+use vorang::mapping::Mapping;
+use vorang::volume::Volume;
 
 /// Height of the legend strip in pixels.
 pub const HEIGHT: usize = 24;

@@ -7,10 +7,10 @@ use std::time::Instant;
 use super::{Call, CommandInfo};
 use crate::display::online::show_while_rendering;
 use crate::display::{Window, rgba8};
-use crate::framebuffer::{Background, format_for, numbered, write_image};
-use crate::legend::{self, ColorScale};
-use crate::mapping::Mapping;
-use crate::render::{Method, Order, Settings, TileSink, Watch, render_watched};
+use vorang::framebuffer::{Background, format_for, numbered, write_image};
+use vorang::legend::{self, ColorScale};
+use vorang::mapping::Mapping;
+use vorang::render::{Method, Order, Settings, TileSink, Watch, render_watched};
 use crate::script::Session;
 
 pub const METHOD: CommandInfo = CommandInfo {
@@ -268,7 +268,7 @@ fn render_command(s: &mut Session, c: &Call, order: Order) -> Result<String, Str
             ms(t.draw),
             stats.fragments,
             100.0 * stats.lane_fragments as f64 / stats.fragments.max(1) as f64,
-            crate::render::span::kernel().name(),
+            vorang::render::span::kernel().name(),
             rayon::current_num_threads()
         ));
     }

@@ -1,0 +1,10 @@
+//! # vorang-tcl — VoRANG's script language and windows
+//!
+//! The thesis's script language (thesis 4.2 and appendix A) is real Tcl 8.6 extended by the
+//! VoRANG commands ([`script`]); its windows — the `online` display and the interactive viewer —
+//! are Tk ([`display`]). Everything here is a thin caller of the core library `vorang`: the
+//! commands parse their words and call the session's setters, the windows show what the session
+//! renders. This crate is the only one that links libtcl.
+
+pub mod display;
+pub mod script;
