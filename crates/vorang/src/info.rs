@@ -5,7 +5,7 @@ use std::fmt::Write as _;
 
 use crate::data::RawData;
 use crate::field::Field;
-use crate::hypermesh::HyperMeshFile;
+use crate::formats::hypermesh::HyperMeshFile;
 use crate::volume::{DataSet, Volume};
 
 /// A short float for reports (about 6 significant digits).

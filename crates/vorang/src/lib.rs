@@ -50,7 +50,6 @@ pub mod error;
 pub mod field;
 pub mod formats;
 pub mod framebuffer;
-pub mod hypermesh;
 pub mod info;
 pub mod integrate;
 pub mod legend;
@@ -65,5 +64,7 @@ pub mod sort;
 pub mod volume;
 
 pub use error::{Error, ParseError, Result, Warning};
+/// HyperMesh, the thesis's format, is one codec of [`formats`]; `vorang::hypermesh` names it.
+pub use formats::hypermesh;
 pub use mesh::TetMesh;
 pub use volume::Volume;

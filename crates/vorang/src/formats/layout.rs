@@ -32,7 +32,7 @@
 //! Complex data are stored as `Float64` arrays of two numbers (re, im) per component.
 //!
 //! Reading resolves the header with the HyperMesh reader's own code
-//! ([`crate::hypermesh::read::read_with_blocks`]), so every check and every rule is the one
+//! ([`crate::formats::hypermesh::read::read_with_blocks`]), so every check and every rule is the one
 //! HyperMesh files get.
 
 use std::collections::HashMap;
@@ -41,7 +41,7 @@ use std::fmt::Write as _;
 use super::{ArrayValues, MeshDescription, cell_type};
 use crate::data::{DataType, ElementKind, ScalarType, Values};
 use crate::error::{ParseError, Warning};
-use crate::hypermesh::header::{BlockDecl, Target};
+use crate::formats::hypermesh::header::{BlockDecl, Target};
 use crate::volume::Volume;
 
 /// The FieldData array that holds the layout text.
@@ -436,7 +436,7 @@ pub fn volume(desc: &mut MeshDescription) -> Option<Result<(Volume, Vec<Warning>
         };
         convert(&v, d.ty.scalar, shift)
     };
-    let mut file = match crate::hypermesh::read::read_with_blocks(&name, &text, line.max(1), block)
+    let mut file = match crate::formats::hypermesh::read::read_with_blocks(&name, &text, line.max(1), block)
     {
         Ok(f) => f,
         Err(e) => return Some(Err(e)),
@@ -457,7 +457,7 @@ mod tests {
 
     fn written(text_edit: impl Fn(String) -> String) -> MeshDescription {
         let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-        let file = crate::hypermesh::read_file(&root.join("tests/data/two_tets_data.hmesh"))
+        let file = crate::formats::hypermesh::read_file(&root.join("tests/data/two_tets_data.hmesh"))
             .unwrap_or_else(|e| panic!("{e}"));
         let vol = Volume::from_file(file).unwrap_or_else(|e| panic!("{e}"));
         let mut bytes = Vec::new();

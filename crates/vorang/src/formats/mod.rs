@@ -4,7 +4,7 @@
 //! reader and a writer. [`Volume`]s are built from a description alone ([`build`]), so a new
 //! format is one new file and one table line; nothing else learns about it.
 //!
-//! HyperMesh, the thesis's own format, keeps its dedicated reader ([`crate::hypermesh`]): it
+//! HyperMesh, the thesis's own format, keeps its dedicated reader ([`crate::formats::hypermesh`]): it
 //! carries more than a description can (edges, triangles, materials, edge-element and
 //! analytic fields, denominators), and its behaviour and messages are fixed by SPEC §7. The
 //! registry lists it so that detection and "expected one of" messages cover every format.
@@ -15,6 +15,7 @@
 //! content no reader recognises gets a clear error naming the formats tried.
 
 pub mod build;
+pub mod hypermesh;
 pub mod layout;
 pub mod msh;
 mod text;
@@ -185,7 +186,7 @@ pub type ReadFn = fn(&[u8], &str) -> Result<MeshDescription, ParseError>;
 /// A writer: a volume to a file (the options choose HyperMesh's encoding and layout; other
 /// formats have one way of writing). Returns warnings about what the format cannot hold.
 pub type WriteFn =
-    fn(&Volume, &Path, crate::hypermesh::WriteOptions) -> Result<Vec<Warning>, Error>;
+    fn(&Volume, &Path, crate::formats::hypermesh::WriteOptions) -> Result<Vec<Warning>, Error>;
 
 /// One registry entry.
 pub struct Format {
@@ -195,7 +196,7 @@ pub struct Format {
     /// Whether the first bytes of a file are this format.
     pub sniff: fn(&[u8]) -> bool,
     /// Reads a whole file into a description; `None` for HyperMesh (read by
-    /// [`crate::hypermesh`]).
+    /// [`crate::formats::hypermesh`]).
     pub read: Option<ReadFn>,
     /// Writes a volume in this format; `None` for formats VoRANG only reads.
     pub write: Option<WriteFn>,
@@ -216,7 +217,7 @@ pub const FORMATS: &[Format] = &[
         sniff: |b| starts_after_space(b, b"# HyperMesh") || starts_after_space(b, b"#HyperMesh"),
         read: None,
         write: Some(|vol, path, opts| {
-            crate::hypermesh::save_volume(vol, path, opts).map(|()| Vec::new())
+            crate::formats::hypermesh::save_volume(vol, path, opts).map(|()| Vec::new())
         }),
     },
     Format {
@@ -366,7 +367,7 @@ pub fn load_volume(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
         // HyperMesh, or text of unknown format (the HyperMesh reader then reports on its
         // title line, as it always has): the HyperMesh reader, unchanged.
         _ => {
-            let file = crate::hypermesh::read_file(path)?;
+            let file = crate::formats::hypermesh::read_file(path)?;
             let warnings = file.warnings.clone();
             Ok((Volume::from_file(file)?, warnings))
         }
@@ -403,7 +404,7 @@ pub fn volume_from_bytes(bytes: &[u8], name: &str) -> Result<(Volume, Vec<Warnin
 }
 
 fn hypermesh_volume(bytes: &[u8], name: &str) -> Result<(Volume, Vec<Warning>), ParseError> {
-    let file = crate::hypermesh::read_bytes(bytes, name)?;
+    let file = crate::formats::hypermesh::read_bytes(bytes, name)?;
     let warnings = file.warnings.clone();
     Ok((Volume::from_file(file)?, warnings))
 }
@@ -429,7 +430,7 @@ pub fn is_hypermesh(bytes: &[u8], path: &Path) -> bool {
 pub fn save_volume(
     vol: &Volume,
     path: &Path,
-    opts: crate::hypermesh::WriteOptions,
+    opts: crate::formats::hypermesh::WriteOptions,
 ) -> Result<Vec<Warning>, Error> {
     let format = format_for_writing(path);
     match format.write {
