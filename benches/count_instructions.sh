@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Instructions executed for one frame, per build: a measure that does not drift with the machine's
-# load (docs/performance.md, "A fifth round: counting instructions"). Time is what counts, but on
+# load (docs/performance.md, "How to measure"). Time is what counts, but on
 # a shared VM a 5 % change hides in the noise of frame times; the instruction count of the same
 # frame is exact to the last digit, so two builds can be told apart — though fewer instructions
 # need not mean less time (see that section).

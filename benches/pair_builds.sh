@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Paired frame times of two builds (docs/performance.md, "A sixth round").
+# Paired frame times of two builds (docs/performance.md, "How to measure").
 # usage: benches/pair_builds.sh OLD_VORANG NEW_VORANG SCRIPT [PAIRS]
 # Starts both builds at the same moment, one thread each, pinned to CPUs 0 and 1 (swapped every
 # pair), sums each run's per-frame draw times (VORANG_TIMING=1) and prints the median ratio

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Side-by-side frame times of vorang and VTK on the benchmark scenes (issue 11, item 5).
+"""Side-by-side frame times of vorang and VTK on the benchmark scenes (docs/performance.md).
 
 For each case (mesh size × image size) this script
 
@@ -24,7 +24,8 @@ opacity divided by the scalar opacity unit distance. So VTK gets the colormap's 
 colour knots and χ/χ_max as opacity knots at the same field values, with unit distance 1/χ_max:
 its τ equals vorang's χ exactly. VTK's emission is then rgb·χ, which is vorang's
 ABSORPTION_WEIGHTED colormap, not the bench's SIMPLE_EMITTER (emission rgb per unit length);
-the timings use the bench maps for vorang (the issue's targets are stated for them) unless
+the timings use the bench maps for vorang (the speed targets in docs/performance.md are stated
+for them) unless
 `--vorang-maps weighted` is given.
 
 Run `python compare.py --help` for the options; README.md has the setup.

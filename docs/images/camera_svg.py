@@ -3,7 +3,7 @@
 
     python3 docs/images/camera_svg.py > docs/images/camera.svg
 
-Eye space as VoRANG defines it (SPEC §5, src/scene/camera.rs): the eye at the origin, x right,
+Eye space as VoRANG defines it (docs/camera.md, src/scene/camera.rs): the eye at the origin, x right,
 y up, looking along −z; depth d = −z. `look_at` places the eye E, the reference point R on the
 viewing axis and the up vector U. `ortho_camera l r b t front back` keeps x in [l, r], y in
 [b, t] and depth in [front, back]; `persp_camera fovy aspect near far` keeps the frustum of

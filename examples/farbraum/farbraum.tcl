@@ -4,7 +4,10 @@
 # along y, blue along z) that is used directly as emission (IDENTITY), with a constant
 # absorption about halfway between transparent and opaque. The cuboid is rendered with every
 # approximation method and integration rule:
-#   exact and interpolateCoeff agree here (the data are linear and χ is constant);
+#   exact samples every 0.05, interpolateCoeff integrates each cell in one piece, so with the
+#   thesis's rules used here the two differ (frame 2, interpolateCoeff trapez, by up to 44/255
+#   from frame 1, exact trapez); only with the linear rule would both be exact (the data are
+#   linear and χ is constant);
 #   weightedConstEA stresses the colour at the front a little too much;
 #   interpolateColor (Gouraud projected tetrahedra) is far more transparent and shows edges;
 #   test draws the cell walls.

@@ -36,7 +36,7 @@ lost; this script builds a genuine equivalent:
   25 °C with h = 45 W/m²/K, assumed values of the order used in hyperthermia planning
   (e.g. Lang, Erdmann & Seebass 1999, IEEE Trans. Biomed. Eng. 46: 1129).
 
-Output: `hyperthermia.hmesh`, BINARY HyperMesh (SPEC §7) with a Materials block (id, name,
+Output: `hyperthermia.hmesh`, BINARY HyperMesh (thesis appendix B) with a Materials block (id, name,
 k, rho, c, perfusion, sigma, eps), `Field "Temperature" { float } = Linear(…)` in °C and
 `Field "Material" { byte Materials } = Constant(…)` with 1 muscle, 2 fat, 3 bone, 4 tumour.
 

@@ -1,6 +1,6 @@
-"""A small, independent HyperMesh writer (SPEC §7, thesis appendix B) for the example generators.
+"""A small, independent HyperMesh writer (thesis appendix B, docs/formats.md) for the example generators.
 
-It is written from the specification, not from VoRANG's own writer, so that reading its files
+It is written from the format's description, not from VoRANG's own writer, so that reading its files
 with `vorang info` checks the reader against a second implementation: BINARY encoding (ASCII
 header, then after each `@marker` line the block as raw big-endian data and one newline),
 1-based node indices, right-handed tetrahedra, a `Materials` block for byte material data.
@@ -10,8 +10,8 @@ import numpy as np
 
 
 def right_handed(points, tets):
-    """Swap two nodes of every tetrahedron whose signed volume is negative (SPEC §7 wants
-    ((n1−n0)×(n2−n0))·(n3−n0) > 0); fails on degenerate cells rather than writing them."""
+    """Swap two nodes of every tetrahedron whose signed volume is negative (VoRANG's files
+    have ((n1−n0)×(n2−n0))·(n3−n0) > 0, docs/formats.md); fails on degenerate cells rather than writing them."""
     p = points[tets]
     vol = np.einsum("ij,ij->i", np.cross(p[:, 1] - p[:, 0], p[:, 2] - p[:, 0]), p[:, 3] - p[:, 0])
     if np.any(vol == 0):

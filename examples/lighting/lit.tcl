@@ -1,4 +1,4 @@
-# lighting: LIT_EMITTER (issue 15, item 3) on the temperature of the inclusion example. Frame 1
+# lighting: LIT_EMITTER (docs/lighting.md) on the temperature of the inclusion example. Frame 1
 # uses the default light (white, at the camera); frame 2 a warm key light from the upper left
 # and a weak blue fill light from the right.
 imagesize 320 200

@@ -18,7 +18,7 @@ k = 1.5 W/m/K (stoneware), in a teapot 24 cm across its body (coordinates in dec
 the mesh unit is 0.1 m). Solved with P1 finite elements (scikit-fem) by the solver that
 examples/hyperthermia/fem.py checks against a closed form.
 
-Output: `teapot.hmesh`, BINARY HyperMesh (SPEC §7): `Field "Temperature" { float } =
+Output: `teapot.hmesh`, BINARY HyperMesh (thesis appendix B): `Field "Temperature" { float } =
 Linear(…)` and `Field "Part" { byte Materials } = Constant(…)` (1 pot, 2 spout, 3 handle,
 4 knob), with a Materials block naming the parts.
 
