@@ -7,8 +7,11 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use vorang::hypermesh::{self, Encoding, Layout, WriteOptions};
-use vorang_tcl::script::{Runner, ScriptError, Terminal};
+use vorang::mapping::{AlphaShading, ColorShading, read_map};
+use vorang::render::{LineDraw, Method};
+use vorang::session::Notice;
 use vorang::{Error, Volume, info};
+use vorang_tcl::script::{Runner, ScriptError, Terminal};
 
 /// Direct volume rendering of fields on tetrahedral meshes.
 ///
@@ -117,38 +120,9 @@ fn print_warnings(w: &[vorang::Warning]) {
 fn data_command(command: Command) -> Result<bool, Error> {
     match command {
         Command::Info { file, check } => {
-            let mut clean = true;
-            let text = match vorang::formats::read_description_file(&file)? {
-                Some(desc) => {
-                    let format = desc.format.clone();
-                    let (vol, warnings) = vorang::formats::build::volume(desc)?;
-                    print_warnings(&warnings);
-                    let mut text = info::describe_volume_as(&vol, &format);
-                    if check {
-                        let (line, ok) = info::check_overlaps(&vol.mesh);
-                        text.push_str(&line);
-                        clean = ok;
-                    }
-                    text
-                }
-                None => {
-                    let f = hypermesh::read_file(&file)?;
-                    print_warnings(&f.warnings);
-                    if f.geometry.is_some() {
-                        let encoding = format!("{} {}", f.encoding.keyword(), f.version);
-                        let vol = Volume::from_file(f)?;
-                        let mut text = info::describe_volume(&vol, &encoding);
-                        if check {
-                            let (line, ok) = info::check_overlaps(&vol.mesh);
-                            text.push_str(&line);
-                            clean = ok;
-                        }
-                        text
-                    } else {
-                        info::describe_data_file(&f)
-                    }
-                }
-            };
+            let (described, warnings) = vorang::formats::describe_file(&file)?;
+            print_warnings(&warnings);
+            let (text, clean) = info::describe(&described, check);
             print!("{text}");
             if !clean {
                 return Ok(false);
@@ -417,60 +391,10 @@ fn prompt(runner: &mut Runner) -> ExitCode {
     }
 }
 
-/// A Tcl word that stands for `text` itself (every special character escaped).
-fn tcl_word(text: &str) -> String {
-    text.chars()
-        .flat_map(|c| {
-            let plain = c.is_alphanumeric() || "/._-+:,=@%".contains(c);
-            (!plain).then_some('\\').into_iter().chain([c])
-        })
-        .collect()
-}
-
-/// `vorang view`: the options as script commands, then `view` (the CLI is one more front end
-/// of the same commands).
-fn view_script(
-    file: &std::path::Path,
-    colormap: Option<&std::path::Path>,
-    alphamap: Option<&std::path::Path>,
-    method: Option<&str>,
-    size: Option<&[usize]>,
-    output: &std::path::Path,
-    lines: bool,
-) -> String {
-    let path = |p: &std::path::Path| tcl_word(&p.to_string_lossy());
-    let mut script = format!("volume {}\n", path(file));
-    if let Some(c) = colormap {
-        script += &format!("colormap {}\n", path(c));
-    }
-    if let Some(a) = alphamap {
-        script += &format!("alphamap {}\n", path(a));
-    }
-    if let Some(m) = method {
-        script += &format!("method {m}\n");
-    }
-    if let Some([w, h]) = size {
-        script += &format!("imagesize {w} {h}\n");
-    }
-    script += &format!(
-        "output {}\nlinedraw {}\nview\n",
-        path(output),
-        if lines { "on" } else { "off" }
-    );
-    script
-}
-
-/// `vorang -e 'help method'` and `echo 'help method' | vorang` print the help: the result of
-/// such a script is printed when it is what `help` returned (a render's file name is not).
-fn print_help_result(runner: &Runner, result: &str) {
-    if !result.is_empty() && runner.session().last_help.as_deref() == Some(result) {
-        println!("{result}");
-    }
-}
-
-fn main() -> ExitCode {
-    let cli = Cli::parse();
-    if let Some(Command::View {
+/// `vorang view`: the options set on the session directly, then the viewer on it (the CLI is
+/// one more front end of the same session).
+fn view(runner: &Runner, command: &Command) -> Result<(), String> {
+    let Command::View {
         file,
         colormap,
         alphamap,
@@ -478,22 +402,53 @@ fn main() -> ExitCode {
         size,
         output,
         lines,
-    }) = &cli.command
-    {
-        let script = view_script(
-            file,
-            colormap.as_deref(),
-            alphamap.as_deref(),
-            Some(method.as_str()),
-            size.as_deref(),
-            output,
-            *lines,
-        );
-        let mut runner = Runner::new(Box::new(Terminal));
-        return match runner.run_string(&script, "vorang view") {
-            Ok(_) => ExitCode::SUCCESS,
+    } = command
+    else {
+        return Ok(());
+    };
+    let mut context = runner.context();
+    let (_, notices) = context.session.load_volume(file)?;
+    context.report(notices);
+    if let Some(path) = colormap {
+        let (map, w) = read_map::<dyn ColorShading>(path).map_err(|e| e.to_string())?;
+        context.session.set_colormap(map)?;
+        context.report(w.iter().map(|w| Notice::Warning(w.to_string())));
+    }
+    if let Some(path) = alphamap {
+        let (map, w) = read_map::<dyn AlphaShading>(path).map_err(|e| e.to_string())?;
+        context.session.set_alphamap(map)?;
+        context.report(w.iter().map(|w| Notice::Warning(w.to_string())));
+    }
+    let words: Vec<&str> = method.split_whitespace().collect();
+    context
+        .session
+        .set_method(Method::parse(&words).map_err(|e| format!("method: {e}"))?);
+    if let Some([w, h]) = size.as_deref() {
+        context.session.set_image_size(*w, *h)?;
+    }
+    context.session.set_output(output.clone())?;
+    context
+        .session
+        .set_lines(if *lines { LineDraw::All } else { LineDraw::Off })?;
+    vorang_tcl::display::viewer::run(&mut context, runner.interp()).map(|_| ())
+}
+
+/// `vorang -e 'help method'` and `echo 'help method' | vorang` print the help: the result of
+/// such a script is printed when it is what `help` returned (a render's file name is not).
+fn print_help_result(runner: &Runner, result: &str) {
+    if !result.is_empty() && runner.context().last_help.as_deref() == Some(result) {
+        println!("{result}");
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    if let Some(command @ Command::View { .. }) = &cli.command {
+        let runner = Runner::new(Box::new(Terminal));
+        return match view(&runner, command) {
+            Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
-                eprintln!("vorang: {}", e.message);
+                eprintln!("vorang: {e}");
                 ExitCode::FAILURE
             }
         };

@@ -42,7 +42,7 @@ fn every_example_script_runs() {
         runner
             .run_file(script)
             .unwrap_or_else(|e| panic!("{e}\n{}", e.trace));
-        let written = runner.session().written.clone();
+        let written = runner.session().written().to_vec();
         assert!(!written.is_empty(), "{} wrote no image", script.display());
         for w in &written {
             assert!(w.exists(), "{}", w.display());

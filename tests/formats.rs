@@ -72,7 +72,7 @@ fn render(file: &Path, colormap: &str, alphamap: &str, view: &str) -> Vec<f32> {
     runner
         .run_string(&script, "test")
         .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
-    let written = runner.session().written.clone();
+    let written = runner.session().written().to_vec();
     let bytes = std::fs::read(&written[0]).unwrap();
     let (_, _, rgb) = read_pfm(&bytes).unwrap();
     rgb.into_iter().flatten().collect()
@@ -553,7 +553,7 @@ fn a_failed_load_keeps_the_previous_volume() {
     let msg = runner.run_string(&script, "t").unwrap();
     assert!(msg.contains("bad.vtu:"), "{msg}");
     let session = runner.session();
-    let vol = session.volume.as_ref().unwrap();
+    let vol = session.volume().unwrap();
     assert_eq!(vol.mesh.tet_count(), 48);
     assert!(vol.source.ends_with("cube_raw.vtu"));
 }
@@ -683,7 +683,7 @@ fn render_field(file: &Path, n: usize, lo: f64, hi: f64) -> Vec<f32> {
     runner
         .run_string(&script, "test")
         .unwrap_or_else(|e| panic!("{}: {e}", file.display()));
-    let bytes = std::fs::read(&runner.session().written[0]).unwrap();
+    let bytes = std::fs::read(&runner.session().written()[0]).unwrap();
     let (_, _, rgb) = read_pfm(&bytes).unwrap();
     rgb.into_iter().flatten().collect()
 }

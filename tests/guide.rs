@@ -83,7 +83,7 @@ fn the_guide_s_examples_load_and_render() {
     runner
         .run_file(&path)
         .unwrap_or_else(|e| panic!("{e}\n{}", e.trace));
-    let written = runner.session().written.clone();
+    let written = runner.session().written().to_vec();
     assert_eq!(written.len(), 4, "{written:?}");
     for w in &written {
         let img = image::open(w).unwrap().to_rgb8();

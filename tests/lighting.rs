@@ -323,7 +323,7 @@ fn addlight_numbers_lights_and_removelight_takes_them_away() {
     assert_eq!(r.run_string("addlight 1 1 1 0 0 1", "t").unwrap(), "1");
     assert_eq!(r.run_string("addlight 1 0 0 1 0 0", "t").unwrap(), "2");
     r.run_string("removelight 1", "t").unwrap();
-    let lights = r.session().settings.lights.clone();
+    let lights = r.session().settings().lights.clone();
     assert_eq!(lights, vec![light([1.0, 0.0, 0.0], [1.0, 0.0, 0.0])]);
     let e = r.run_string("removelight 2", "t").unwrap_err().to_string();
     assert!(e.contains("no light 2"), "{e}");
@@ -333,5 +333,5 @@ fn addlight_numbers_lights_and_removelight_takes_them_away() {
         .to_string();
     assert!(e.contains("direction"), "{e}");
     r.run_string("removelight 1", "t").unwrap();
-    assert!(r.session().settings.lights.is_empty());
+    assert!(r.session().settings().lights.is_empty());
 }

@@ -12,12 +12,11 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 
 use vorang::formats::{self, Array, ArrayValues, Cells, MeshDescription, cell_type};
-use vorang::framebuffer::Framebuffer;
-use vorang::framebuffer::write_image;
-use vorang::mapping::{
-    AlphaMap, AlphaShading, ColorMap, ColorShading, Mapping, parse_map, read_map,
-};
-use vorang_tcl::script::{Reporter, Runner, Terminal};
+use vorang::framebuffer::{Background, Framebuffer, write_image};
+use vorang::mapping::{AlphaMap, AlphaShading, ColorMap, ColorShading, parse_map, read_map};
+use vorang::render::{LineDraw, Method, Order};
+use vorang::scene::{Camera, Light, LookAt, TransformOp};
+use vorang::session::{Hooks, Notice, Prepared, Session};
 use vorang::{Error, ParseError};
 
 /// The core's error as a Python exception: files → `OSError`, everything else → `ValueError`.
@@ -396,53 +395,6 @@ fn warn_all(py: Python<'_>, msgs: impl Iterator<Item = String>) -> PyResult<()> 
     Ok(())
 }
 
-/// Collects warnings of the script commands (shared so that they can be read back).
-#[derive(Clone, Default)]
-struct Shared(Arc<Mutex<Vec<String>>>);
-
-impl Reporter for Shared {
-    fn info(&mut self, _text: &str) {}
-    fn warn(&mut self, text: &str) {
-        if let Ok(mut v) = self.0.lock() {
-            v.push(text.to_string());
-        }
-    }
-}
-
-/// A word quoted for Tcl: every character Tcl treats specially gets a backslash.
-fn tcl_word(s: &str) -> String {
-    if s.is_empty() {
-        return "{}".into();
-    }
-    let mut out = String::with_capacity(s.len() + 8);
-    for c in s.chars() {
-        match c {
-            '\\' | '{' | '}' | '[' | ']' | '$' | '"' | ';' | ' ' | '#' => {
-                out.push('\\');
-                out.push(c);
-            }
-            '\t' => out.push_str("\\t"),
-            '\n' => out.push_str("\\n"),
-            '\r' => out.push_str("\\r"),
-            c => out.push(c),
-        }
-    }
-    out
-}
-
-/// A number as the script reads it back exactly (shortest round-trip form).
-fn num(v: f64) -> String {
-    if v.is_finite() {
-        format!("{v:?}")
-    } else {
-        format!("{v}")
-    }
-}
-
-fn nums(v: &[f64]) -> String {
-    v.iter().map(|&x| num(x)).collect::<Vec<_>>().join(" ")
-}
-
 /// A map argument: None (the script's default), a path, map text ("# VoRANG …") or an object
 /// with a `text` attribute (vorang.Colormap / vorang.Alphamap).
 enum MapArg {
@@ -478,28 +430,98 @@ fn map_arg(obj: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<MapArg> {
     )))
 }
 
-fn load_color(arg: MapArg) -> PyResult<ColorMap> {
+/// A map with the warnings of reading it (`None`: the session keeps its default).
+type MapRead<T> = Option<(T, Vec<vorang::Warning>)>;
+
+fn load_color(arg: MapArg) -> PyResult<MapRead<ColorMap>> {
     match arg {
-        MapArg::Default => Ok(ColorMap::default_map()),
-        MapArg::Path(p) => read_map::<dyn ColorShading>(&p)
-            .map(|(m, _)| m)
-            .map_err(py_err),
+        MapArg::Default => Ok(None),
+        MapArg::Path(p) => read_map::<dyn ColorShading>(&p).map(Some).map_err(py_err),
         MapArg::Text(t) => parse_map::<dyn ColorShading>(t.as_bytes(), "<colormap>")
-            .map(|(m, _)| m)
+            .map(Some)
             .map_err(|e| PyValueError::new_err(e.to_string())),
     }
 }
 
-fn load_alpha(arg: MapArg) -> PyResult<AlphaMap> {
+fn load_alpha(arg: MapArg) -> PyResult<MapRead<AlphaMap>> {
     match arg {
-        MapArg::Default => Ok(AlphaMap::default_map()),
-        MapArg::Path(p) => read_map::<dyn AlphaShading>(&p)
-            .map(|(m, _)| m)
-            .map_err(py_err),
+        MapArg::Default => Ok(None),
+        MapArg::Path(p) => read_map::<dyn AlphaShading>(&p).map(Some).map_err(py_err),
         MapArg::Text(t) => parse_map::<dyn AlphaShading>(t.as_bytes(), "<alphamap>")
-            .map(|(m, _)| m)
+            .map(Some)
             .map_err(|e| PyValueError::new_err(e.to_string())),
     }
+}
+
+/// A session's error message as the Python exception a user expects: a missing file is an
+/// `OSError`, everything else a `ValueError`.
+fn session_err(message: String) -> PyErr {
+    if message.contains("No such file") || message.contains("no such file") {
+        PyOSError::new_err(message)
+    } else {
+        PyValueError::new_err(message)
+    }
+}
+
+/// `linedraw="on" | "off" | "FIELD {v1 v2 …}"` (commas separate values too, as the thesis
+/// writes them), as the `linedraw` command reads it.
+fn parse_linedraw(text: &str) -> PyResult<LineDraw> {
+    let words: Vec<&str> = text.split_whitespace().collect();
+    match words.as_slice() {
+        ["on"] => Ok(LineDraw::All),
+        ["off"] => Ok(LineDraw::Off),
+        [field, rest @ ..] if !rest.is_empty() => {
+            let field: usize = field.parse().map_err(|_| {
+                PyValueError::new_err(format!(
+                    "linedraw: expected a whole number ≥ 0 for \"field\" but got \"{field}\""
+                ))
+            })?;
+            let values = rest
+                .join(" ")
+                .split(|c: char| c.is_whitespace() || matches!(c, ',' | '{' | '}'))
+                .filter(|v| !v.is_empty())
+                .map(|v| {
+                    vorang::numbers::parse_f64(v).ok_or_else(|| {
+                        PyValueError::new_err(format!(
+                            "linedraw: expected numbers in the value list, found \"{v}\""
+                        ))
+                    })
+                })
+                .collect::<PyResult<Vec<f64>>>()?;
+            Ok(LineDraw::Cells { field, values })
+        }
+        _ => Err(PyValueError::new_err(
+            "wrong # args: should be \"linedraw on|off|field {values}\"",
+        )),
+    }
+}
+
+/// The background argument: "white"/"clear", "none"/"transparent", an (r, g, b) tuple or an
+/// image path.
+fn set_background(session: &mut Session, b: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
+    let Some(b) = b.filter(|b| !b.is_none()) else {
+        return Ok(());
+    };
+    if let Ok(s) = b.cast::<PyString>() {
+        let s = s.to_string();
+        return match s.as_str() {
+            "white" | "clear" => session.set_background(Background::default()),
+            "none" | "transparent" => session.set_background(Background::None),
+            path => session.load_background(Path::new(path)),
+        }
+        .map_err(session_err);
+    }
+    if let Ok(rgb) = b.extract::<Vec3>() {
+        return session
+            .set_background(Background::Color(rgb))
+            .map_err(session_err);
+    }
+    if let Ok(p) = b.extract::<PathBuf>() {
+        return session.load_background(&p).map_err(session_err);
+    }
+    Err(PyValueError::new_err(
+        "background: expected \"white\", \"clear\", \"none\", an (r, g, b) tuple or an image path",
+    ))
 }
 
 type Vec3 = [f64; 3];
@@ -541,95 +563,90 @@ fn render<'py>(
             "give persp or ortho, not both (one camera)",
         ));
     }
-    // The equivalent script, run on a session holding the volume: same commands, same
-    // defaults, same checks and messages as the CLI.
-    let mut script: Vec<String> = vec![format!("imagesize {} {}", size.0, size.1)];
-    let words: Vec<String> = method.split_whitespace().map(tcl_word).collect();
+    // The session every front end uses: same setters, same defaults, same checks and messages
+    // as the script commands.
+    let mut session = Session::new();
+    session.set_volume(Arc::clone(&vol));
+    session
+        .set_image_size(size.0, size.1)
+        .map_err(session_err)?;
+    let words: Vec<&str> = method.split_whitespace().collect();
     if words.is_empty() {
         return Err(PyValueError::new_err("method: empty method string"));
     }
-    script.push(format!("method {}", words.join(" ")));
-    if let Some(p) = persp {
-        script.push(format!("persp_camera {}", nums(&p)));
+    session.set_method(Method::parse(&words).map_err(|e| session_err(format!("method: {e}")))?);
+    if let Some([fovy, aspect, near, far]) = persp {
+        session
+            .set_camera(Camera::Persp {
+                fovy,
+                aspect,
+                near,
+                far,
+            })
+            .map_err(session_err)?;
     }
-    if let Some(o) = ortho {
-        script.push(format!("ortho_camera {}", nums(&o)));
+    if let Some([left, right, bottom, top, front, back]) = ortho {
+        session
+            .set_camera(Camera::Ortho {
+                left,
+                right,
+                bottom,
+                top,
+                front,
+                back,
+            })
+            .map_err(session_err)?;
     }
-    if let Some((e, r, u)) = look_at {
-        script.push(format!("look_at {} {} {}", nums(&e), nums(&r), nums(&u)));
+    if let Some((eye, reference, up)) = look_at {
+        session.set_look_at(LookAt { eye, reference, up });
     }
-    if let Some(s) = scale {
-        script.push(format!("vol_scale {}", nums(&s)));
+    let mut ops: Vec<TransformOp> = scale.map(TransformOp::Scale).into_iter().collect();
+    ops.extend(
+        rotate
+            .iter()
+            .map(|&[x, y, z, degrees]| TransformOp::Rotate {
+                axis: [x, y, z],
+                degrees,
+            }),
+    );
+    ops.extend(translate.map(TransformOp::Translate));
+    for op in ops {
+        session.transform(op).map_err(session_err)?;
     }
-    for r in &rotate {
-        script.push(format!("vol_rotate {}", nums(r)));
+    set_background(&mut session, background)?;
+    session
+        .set_lines(parse_linedraw(linedraw)?)
+        .map_err(session_err)?;
+    for &[r, g, b, dx, dy, dz] in &lights {
+        session
+            .add_light(Light {
+                color: [r, g, b],
+                direction: [dx, dy, dz],
+            })
+            .map_err(session_err)?;
     }
-    if let Some(t) = translate {
-        script.push(format!("vol_translate {}", nums(&t)));
+    let mut notices = Vec::new();
+    if let Some((map, w)) = load_color(map_arg(colormap, "colormap")?)? {
+        session.set_colormap(map).map_err(session_err)?;
+        notices.extend(w.iter().map(|w| Notice::Warning(w.to_string())));
     }
-    match background {
-        None => {}
-        Some(b) if b.is_none() => {}
-        Some(b) => {
-            if let Ok(s) = b.cast::<PyString>() {
-                let s = s.to_string();
-                match s.as_str() {
-                    "white" | "clear" => script.push("background clear".into()),
-                    "none" | "transparent" => script.push("background none".into()),
-                    path => script.push(format!("background {}", tcl_word(path))),
-                }
-            } else if let Ok(rgb) = b.extract::<Vec3>() {
-                script.push(format!("background {}", nums(&rgb)));
-            } else if let Ok(p) = b.extract::<PathBuf>() {
-                script.push(format!("background {}", tcl_word(&p.display().to_string())));
-            } else {
-                return Err(PyValueError::new_err(
-                    "background: expected \"white\", \"clear\", \"none\", an (r, g, b) tuple or an image path",
-                ));
-            }
-        }
+    if let Some((map, w)) = load_alpha(map_arg(alphamap, "alphamap")?)? {
+        session.set_alphamap(map).map_err(session_err)?;
+        notices.extend(w.iter().map(|w| Notice::Warning(w.to_string())));
     }
-    let lwords: Vec<String> = linedraw.split_whitespace().map(tcl_word).collect();
-    script.push(format!("linedraw {}", lwords.join(" ")));
-    for l in &lights {
-        script.push(format!("addlight {}", nums(l)));
-    }
-
-    let colormap = load_color(map_arg(colormap, "colormap")?)?;
-    let alphamap = load_alpha(map_arg(alphamap, "alphamap")?)?;
-
-    let reporter = Shared::default();
-    let (view, settings) = {
-        let mut runner = Runner::new(Box::new(reporter.clone()));
-        runner.session().volume = Some(Arc::clone(&vol));
-        for line in &script {
-            runner.run_string(line, "render").map_err(|e| {
-                if e.message.contains("No such file") || e.message.contains("no such file") {
-                    PyOSError::new_err(e.message)
-                } else {
-                    PyValueError::new_err(e.message)
-                }
-            })?;
-        }
-        let s = runner.session();
-        (s.view.clone(), s.settings.clone())
-    };
-    let (mapping, map_warnings) = Mapping::new(&colormap, &alphamap, &vol)
-        .map_err(|e| PyValueError::new_err(e.to_string()))?;
-    let mut msgs: Vec<String> = reporter.0.lock().map(|v| v.clone()).unwrap_or_default();
-    msgs.extend(map_warnings.iter().map(|w| w.to_string()));
-    warn_all(py, msgs.into_iter())?;
-
-    let (fb, stats) = render_interruptible(py, &vol, &mapping, &view, &settings, progress)?;
-    if let Some((x, y)) = stats.first_non_finite {
-        warn_all(
-            py,
-            std::iter::once(format!(
-                "render: {} pixels are NaN or infinite (the first at x {x}, y {y})",
-                stats.non_finite
-            )),
-        )?;
-    }
+    let mut prepared = session
+        .prepare("render", Order::BackToFront, false)
+        .map_err(session_err)?;
+    notices.extend(prepared.take_notices());
+    let started = std::time::Instant::now();
+    let result = render_interruptible(py, &prepared, progress)?;
+    let seconds = started.elapsed().as_secs_f64();
+    let image = session
+        .finish_image(&mut prepared, result, seconds)
+        .map_err(session_err)?;
+    notices.extend(image.notices);
+    warn_all(py, notices.iter().map(|n| n.text().to_string()))?;
+    let fb = image.framebuffer;
     let (w, h) = (fb.width, fb.height);
     let flat: Vec<f32> = fb.pixels.into_iter().flatten().collect();
     let arr = Array3::from_shape_vec((h, w, 4), flat)
@@ -648,12 +665,9 @@ struct Stop;
 /// `update`), as `total` set once and update(n) per finished tile.
 fn render_interruptible(
     py: Python<'_>,
-    vol: &vorang::Volume,
-    mapping: &Mapping,
-    view: &vorang::scene::View,
-    settings: &vorang::render::Settings,
+    prepared: &Prepared,
     progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<(Framebuffer, vorang::render::Stats)> {
+) -> PyResult<Result<(Framebuffer, vorang::render::Stats), vorang::Error>> {
     use std::sync::atomic::{AtomicBool, Ordering};
     let stop = AtomicBool::new(false);
     let error: Mutex<Option<PyErr>> = Mutex::new(None);
@@ -695,14 +709,11 @@ fn render_interruptible(
         std::thread::scope(|scope| {
             let worker = scope.spawn(|| {
                 std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    vorang::render::render_cancellable(
-                        vol,
-                        mapping,
-                        view,
-                        settings,
-                        Some(&callback),
-                        &stop,
-                    )
+                    prepared.render(&Hooks {
+                        progress: Some(&callback),
+                        tile: None,
+                        cancel: &stop,
+                    })
                 }))
             });
             while !worker.is_finished() {
@@ -722,7 +733,7 @@ fn render_interruptible(
         return Err(e);
     }
     match result {
-        Ok(Ok(r)) => r.map_err(py_err),
+        Ok(Ok(r)) => Ok(r),
         Ok(Err(payload)) | Err(payload) => {
             if payload.is::<Stop>() {
                 Err(PyRuntimeError::new_err("the render was stopped"))
@@ -770,8 +781,11 @@ fn save(
 }
 
 /// run_script(path_or_text): runs a VoRANG (Tcl) script file, or script text, as `vorang
-/// script.tcl` / `vorang -e` do; messages go to stdout/stderr. Raises OSError for a missing
+/// script.tcl` / `vorang -e` do; messages go to stdout/stderr. Only in builds with the
+/// `script` feature, which links libtcl; the default package runs the `vorang` program instead
+/// (python/vorang/__init__.py). Raises OSError for a missing
 /// script file and RuntimeError ("file:line: message") when the script fails.
+#[cfg(feature = "script")]
 #[pyfunction]
 fn run_script(py: Python<'_>, path_or_text: &Bound<'_, PyAny>) -> PyResult<()> {
     let (is_file, text): (bool, String) = if let Ok(s) = path_or_text.cast::<PyString>() {
@@ -797,7 +811,7 @@ fn run_script(py: Python<'_>, path_or_text: &Bound<'_, PyAny>) -> PyResult<()> {
     };
     // The interpreter is not thread-safe: it runs on this thread, holding the GIL.
     let _ = py;
-    let mut runner = Runner::new(Box::new(Terminal));
+    let mut runner = vorang_tcl::script::Runner::new(Box::new(vorang_tcl::script::Terminal));
     let result = if is_file {
         runner.run_file(Path::new(&text))
     } else {
@@ -811,6 +825,7 @@ fn _vorang(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyVolume>()?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(save, m)?)?;
+    #[cfg(feature = "script")]
     m.add_function(wrap_pyfunction!(run_script, m)?)?;
     Ok(())
 }

@@ -12,10 +12,15 @@ exactly those the PFM output of the equivalent script holds.
 
 from __future__ import annotations
 
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
 from typing import Sequence
 
 from . import _vorang
-from ._vorang import Volume, run_script, save
+from ._vorang import Volume, save
 
 __all__ = ["Volume", "render", "save", "run_script", "Colormap", "Alphamap"]
 
@@ -328,3 +333,46 @@ _PRESETS = {
         (1.0, 1.0, 1.0),
     ],
 }
+
+
+def _vorang_program():
+    """The `vorang` program run_script runs: $VORANG_BIN, else `vorang` on the PATH."""
+    program = os.environ.get("VORANG_BIN") or shutil.which("vorang")
+    if not program:
+        raise RuntimeError(
+            "run_script runs scripts with the vorang program, which was not found: install it "
+            "(cargo install --path . in the VoRANG repository) or set VORANG_BIN to its path; "
+            "everything else in this package works without it"
+        )
+    return program
+
+
+def run_script(path_or_text):
+    """Runs a VoRANG (Tcl) script file, or script text, as `vorang script.tcl` / `vorang -e` do;
+    messages go to stdout/stderr.
+
+    Raises OSError for a missing script file and RuntimeError ("file:line: message") when the
+    script fails. The script language is real Tcl: the package itself does not link libtcl, so
+    scripts run in the `vorang` program ($VORANG_BIN or `vorang` on the PATH), unless the
+    extension was built with the `script` feature, which runs them in-process.
+    """
+    if hasattr(_vorang, "run_script"):
+        return _vorang.run_script(path_or_text)
+    if isinstance(path_or_text, os.PathLike) or (
+        isinstance(path_or_text, str) and "\n" not in path_or_text
+        and (Path(path_or_text).is_file() or path_or_text.rstrip().endswith(".tcl"))
+    ):
+        path = Path(path_or_text)
+        if not path.is_file():
+            raise OSError(f"{path}: no such script file")
+        args = [_vorang_program(), str(path)]
+    else:
+        args = [_vorang_program(), "-e", str(path_or_text)]
+    done = subprocess.run(args, capture_output=True, text=True)
+    if done.stdout:
+        sys.stdout.write(done.stdout)
+    if done.stderr:
+        sys.stderr.write(done.stderr)
+    if done.returncode != 0:
+        lines = [l for l in done.stderr.splitlines() if l.strip()]
+        raise RuntimeError(lines[0] if lines else f"vorang exited with status {done.returncode}")

@@ -6,5 +6,9 @@
 //! commands parse their words and call the session's setters, the windows show what the session
 //! renders. This crate is the only one that links libtcl.
 
+// Edit distances and pixel rows index several arrays by the same position (`d[j]`, `prev[j]`),
+// which reads like the recurrences they implement.
+#![allow(clippy::needless_range_loop)]
+
 pub mod display;
 pub mod script;

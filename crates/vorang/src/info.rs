@@ -5,7 +5,6 @@ use std::fmt::Write as _;
 
 use crate::data::RawData;
 use crate::field::Field;
-use crate::formats::hypermesh::HyperMeshFile;
 use crate::volume::{DataSet, Volume};
 
 /// A short float for reports (about 6 significant digits).
@@ -96,23 +95,37 @@ pub fn describe_volume_as(vol: &Volume, format: &str) -> String {
     s
 }
 
-/// The report for a data-only file.
-pub fn describe_data_file(file: &HyperMeshFile) -> String {
+/// The report for a data-only file (`label` names its format, e.g. `HyperMesh ASCII 0.7`).
+pub fn describe_data_only(name: &str, label: &str, data: &DataSet) -> String {
     let mut s = String::new();
-    let _ = writeln!(
-        s,
-        "file         {} (HyperMesh {} {}, data only)",
-        file.name,
-        file.encoding.keyword(),
-        file.version
-    );
+    let _ = writeln!(s, "file         {name} ({label}, data only)");
     for kind in crate::data::ElementKind::ALL {
-        if let Some(n) = file.data.counts[kind.index()] {
+        if let Some(n) = data.counts[kind.index()] {
             let _ = writeln!(s, "{:<12} {n}", kind.count_keyword());
         }
     }
-    describe_data(&mut s, &file.data, None);
+    describe_data(&mut s, data, None);
     s
+}
+
+/// The report for any file VoRANG reads (one lookup in the format registry), with the overlap
+/// check of `--check`; `false` when that check found overlapping cells.
+pub fn describe(described: &crate::formats::Described, check: bool) -> (String, bool) {
+    match described {
+        crate::formats::Described::Volume { volume, label } => {
+            let mut text = describe_volume_as(volume, label);
+            let mut clean = true;
+            if check {
+                let (line, ok) = check_overlaps(&volume.mesh);
+                text.push_str(&line);
+                clean = ok;
+            }
+            (text, clean)
+        }
+        crate::formats::Described::Data { name, label, data } => {
+            (describe_data_only(name, label, data), true)
+        }
+    }
 }
 
 fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {

@@ -60,6 +60,7 @@ pub mod numbers;
 pub mod reference;
 pub mod render;
 pub mod scene;
+pub mod session;
 pub mod sort;
 pub mod volume;
 
@@ -67,4 +68,5 @@ pub use error::{Error, ParseError, Result, Warning};
 /// HyperMesh, the thesis's format, is one codec of [`formats`]; `vorang::hypermesh` names it.
 pub use formats::hypermesh;
 pub use mesh::TetMesh;
+pub use session::{Notice, Session};
 pub use volume::Volume;

@@ -2,9 +2,9 @@
 //! do to the method (1–4 choose it, + and − its brightness).
 
 use super::orbit::{Orbit, ZOOM_STEP};
+use crate::script::tcl::Interp;
 use vorang::render::Method;
 use vorang::render::approx::{Exact, InterpolateCoeff, InterpolateColor, Test};
-use crate::script::tcl::Interp;
 
 /// Brightness factor per `+` or `−`.
 pub const BRIGHTNESS_STEP: f64 = 1.25;
@@ -169,7 +169,7 @@ pub fn brightness(current: &Method) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::display::commands::method_command;
+    use vorang::session::method_command;
 
     #[test]
     fn drags_turn_or_pan_and_keys_act() {

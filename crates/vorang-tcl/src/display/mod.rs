@@ -6,7 +6,6 @@
 //! window shows is converted exactly as the 8-bit image files are ([`rgba8`]), so the window and
 //! the written file agree pixel for pixel.
 
-pub mod commands;
 pub mod controls;
 mod frames;
 pub mod legend;
@@ -17,9 +16,9 @@ mod window;
 
 pub use window::Window;
 
-use vorang::framebuffer::{output_pixel, to_u8};
 use crate::script::tcl::Interp;
 use crate::script::tk::Tk;
+use vorang::framebuffer::{output_pixel, to_u8};
 
 /// Tk for one session, loaded on first use.
 #[derive(Debug, Default)]

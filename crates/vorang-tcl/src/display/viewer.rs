@@ -1,4 +1,4 @@
-//! The interactive viewer (issue 14): `vorang view FILE` and the `view` script command.
+//! The interactive viewer: `vorang view FILE` and the `view` script command.
 //!
 //! One thread runs Tcl and Tk (Tk is single-threaded): it builds the window, turns Tk's mouse
 //! and key events — collected by Tcl bindings into a list variable — into changes of the
@@ -14,19 +14,19 @@ use std::sync::atomic::{AtomicBool, Ordering};
 use std::sync::mpsc;
 use std::time::{Duration, Instant};
 
-use super::commands;
 use super::controls::{self, Action, Controls, parse_event};
 use super::frames::{self, Done, Job, Tile};
 use super::legend::{self, Legend};
 use super::orbit::Orbit;
 use super::rgba8;
-use vorang::framebuffer::{Framebuffer, format_for, numbered, write_image};
+use crate::script::Context;
+use crate::script::tcl::Interp;
+use crate::script::tk::Tk;
+use vorang::framebuffer::Framebuffer;
 use vorang::mapping::Mapping;
 use vorang::render::approx::InterpolateColor;
 use vorang::render::{CANCELLED, Method, Order, Settings};
-use crate::script::Session;
-use crate::script::tcl::Interp;
-use crate::script::tk::Tk;
+use vorang::session::method_command;
 
 /// How long the view must stay still before the chosen method refines the preview.
 pub const SETTLE: Duration = Duration::from_millis(150);
@@ -108,13 +108,14 @@ fn show(tk: &Tk, interp: &Interp, (width, height): (usize, usize), rgba: &[u8]) 
 /// Runs the viewer on the session's scene until the user quits (`q`, or closing the window).
 /// The session keeps the final view and method, so a render after `view` shows what the
 /// viewer showed.
-pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
+pub fn run(s: &mut Context, interp: &Interp) -> Result<String, String> {
     let vol = s
-        .volume
-        .clone()
+        .session
+        .volume()
+        .cloned()
         .ok_or("view: no volume loaded: use 'volume file' first")?;
-    let (mapping, warnings) =
-        Mapping::new(&s.colormap, &s.alphamap, &vol).map_err(|e| e.to_string())?;
+    let (mapping, warnings) = Mapping::new(s.session.colormap(), s.session.alphamap(), &vol)
+        .map_err(|e| e.to_string())?;
     for w in warnings {
         s.reporter.warn(&w.to_string());
     }
@@ -128,9 +129,9 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
             ));
         }
     };
-    let (width, height) = (s.settings.width, s.settings.height);
-    let mut orbit = Orbit::new(&s.view, &vol, width, height)?;
-    let mut method = s.settings.method;
+    let (width, height) = (s.session.settings().width, s.session.settings().height);
+    let mut orbit = Orbit::new(s.session.view(), &vol, width, height)?;
+    let mut method = s.session.settings().method;
     open_window(interp, width, height).map_err(|e| format!("view: {e}"))?;
     match legend::legend(&mapping, &vol, width) {
         Some(Legend {
@@ -200,12 +201,10 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                     Action::Moved => moved = true,
                     Action::Save => save = true,
                     Action::Print => {
-                        let lines = commands::commands(
-                            &orbit.view(),
-                            &method,
-                            &s.settings.lines,
-                            (width, height),
-                        );
+                        // The session prints itself, holding the viewer's view and method.
+                        s.session.set_view(orbit.view());
+                        s.session.set_method(method);
+                        let lines = s.session.script();
                         s.reporter.info(&format!(
                             "# view: the commands for this image (after loading the volume and maps)\n{}",
                             lines.join("\n")
@@ -264,8 +263,9 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
             }
             if let Some((_, fb)) = refined.as_ref().filter(|(g, _)| save && *g == generation) {
                 save = false;
-                if let Err(e) = save_image(s, fb) {
-                    s.reporter.warn(&format!("view: {e}"));
+                match s.session.save_numbered(fb) {
+                    Ok(note) => s.report([note]),
+                    Err(e) => s.reporter.warn(&format!("view: {e}")),
                 }
             }
             // A save waits for the refined frame, unless that cannot be rendered.
@@ -280,7 +280,7 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                     let mut settings = Settings {
                         method,
                         order: Order::BackToFront,
-                        ..s.settings.clone()
+                        ..s.session.settings().clone()
                     };
                     if preview {
                         settings.method = Method::InterpolateColor(InterpolateColor {
@@ -319,7 +319,7 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                 "::vorang::view_status",
                 &format!(
                     "{}  ·  {cells} cells  ·  {state}  ·  preview {} (1/{factor} size), refined {}\ndrag: turn · shift-drag: pan · wheel: zoom · 1–4 method · +/− brightness · r reset · s save · p print · q quit",
-                    commands::method_command(&method).trim_start_matches("method "),
+                    method_command(&method).trim_start_matches("method "),
                     ms(preview_ms),
                     ms(refined_ms)
                 ),
@@ -338,12 +338,12 @@ pub fn run(s: &mut Session, interp: &Interp) -> Result<String, String> {
                 times.0.len(),
                 summary(&mut times.0),
                 times.1.len(),
-                commands::method_command(&method).trim_start_matches("method "),
+                method_command(&method).trim_start_matches("method "),
                 summary(&mut times.1)
             ));
         }
-        s.view = orbit.view();
-        s.settings.method = method;
+        s.session.set_view(orbit.view());
+        s.session.set_method(method);
         result
     })
 }
@@ -364,21 +364,39 @@ fn summary(times: &mut [f64]) -> String {
     )
 }
 
-/// Writes `fb` as the next numbered image, as a render would.
-fn save_image(s: &mut Session, fb: &Framebuffer) -> Result<(), String> {
-    if s.next_number == u32::MAX {
-        return Err("the image numbers are used up: use 'set_nr' to start again".into());
+#[cfg(test)]
+mod tests {
+    use crate::display::controls::{BRIGHTNESS_STEP, scale_brightness};
+    use crate::display::orbit::Orbit;
+
+    use vorang::render::{LineDraw, Method};
+    use vorang::scene::View;
+    use vorang::session::commands_for;
+
+    fn unit_box() -> vorang::volume::Volume {
+        vorang::volume::jittered_box(48, 0.0, 1)
     }
-    let path = numbered(&s.output, s.next_number);
-    format_for(&path).map_err(|e| e.to_string())?;
-    write_image(fb, &path).map_err(|e| e.to_string())?;
-    s.next_number += 1;
-    s.reporter.info(&format!(
-        "{}  {}×{}  saved from the viewer",
-        crate::script::locate_display(&path),
-        fb.width,
-        fb.height
-    ));
-    s.written.push(path);
-    Ok(())
+
+    #[test]
+    /// What `p` prints, run by Tcl, builds the very same view and method (shortest round-trip
+    /// numbers read back exactly).
+    fn printed_commands_build_the_same_view_and_method() {
+        let vol = unit_box();
+        let mut runner = crate::script::Runner::new(Box::new(crate::script::Collect::default()));
+        let mut o = Orbit::new(&View::default(), &vol, 64, 48).unwrap();
+        o.rotate(37.0, -11.0);
+        o.zoom_by(1.1 * 1.1);
+        o.pan(3.0, 7.0);
+        let method = Method::parse(&["exact", "linear", "0", "1.3"]).unwrap();
+        let method = scale_brightness(&method, BRIGHTNESS_STEP);
+        let view = o.view();
+        let script = commands_for(&view, &method, &LineDraw::Off, (64, 48)).join("\n");
+        runner.session().set_volume(std::sync::Arc::new(vol));
+        runner.run_string(&script, "-e").unwrap();
+        let s = runner.session();
+        assert_eq!(*s.view(), view);
+        assert_eq!(s.settings().method, method);
+        assert_eq!((s.settings().width, s.settings().height), (64, 48));
+        assert_eq!(s.settings().lines, LineDraw::Off);
+    }
 }

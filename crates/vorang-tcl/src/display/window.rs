@@ -2,9 +2,9 @@
 //! size (1:1, no border, no scaling), reused by every `online` render and opened again if the
 //! user closed it.
 
-use vorang::render::Rect;
 use crate::script::tcl::Interp;
 use crate::script::tk::Tk;
+use vorang::render::Rect;
 
 /// The toplevel's Tk path.
 pub const TOPLEVEL: &str = ".vorang";

@@ -1,8 +1,9 @@
-//! The script language (thesis 4.2 and appendix A, SPEC §9): real Tcl 8.6 extended by the VoRANG
-//! commands.
+//! The script language (thesis 4.2 and appendix A; docs/commands.md): real Tcl 8.6 extended by
+//! the VoRANG commands.
 //!
-//! Commands edit a plain [`Session`] (paths, numbers, names — DESIGN §3); `render_btf` and
-//! `render_ftb` bind maps to the volume, render and write the image. Errors stop the script
+//! Commands are thin: they parse their words and call a setter of the core's [`Session`];
+//! `render_btf` and `render_ftb` call its one frame step (bind the maps, render, legend, write
+//! the image) and show the notices it returns. Errors stop the script
 //! with `file:line: message`, also inside procs and loop bodies: failing VoRANG commands locate
 //! themselves with `info frame`; for errors Tcl raises itself the `errorInfo` trace is walked
 //! back to a file line (procedure bodies are located when they are defined).
@@ -17,17 +18,13 @@ pub mod tcl;
 pub mod tk;
 
 use std::cell::RefCell;
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::rc::Rc;
-use std::sync::Arc;
 
 pub use commands::{COMMANDS, CommandInfo};
 
-use vorang::mapping::{AlphaMap, ColorMap};
-use vorang::render::Settings;
-use vorang::scene::View;
-use vorang::volume::Volume;
 use tcl::Interp;
+use vorang::session::{Notice, Session};
 
 /// Where messages go: the render line and notes to standard output, warnings to standard
 /// error — or into a buffer for tests.
@@ -67,77 +64,44 @@ impl Reporter for Collect {
     }
 }
 
-/// The state scripts edit.
-pub struct Session {
-    pub volume: Option<Arc<Volume>>,
-    pub colormap: ColorMap,
-    pub alphamap: AlphaMap,
-    pub view: View,
-    /// Image size, method, grid lines, background (the compositing order is chosen per render).
-    pub settings: Settings,
-    /// `output base.fmt`, resolved against the script's folder.
-    pub output: PathBuf,
-    /// The number of the next image (the first is 1).
-    pub next_number: u32,
-    /// `legend on ?position?`: where the colour legend goes (none by default).
-    pub legend: Option<vorang::legend::Place>,
-    /// `movie FILE`: while open, renders add frames to it instead of writing images.
-    pub movie: Option<vorang::movie::Movie>,
+/// What the script commands work on: the core's [`Session`] (the typed scene), and what only a
+/// script run has — where messages go, the last `help` text, Tk for the windows.
+pub struct Context {
+    pub session: Session,
+    pub reporter: Box<dyn Reporter>,
     /// What `help` last returned: `vorang -e 'help …'` and piped scripts print their result
     /// when it is this text (other results, such as a render's file name, stay quiet).
     pub last_help: Option<String>,
-    pub reporter: Box<dyn Reporter>,
-    /// Files written by renders, in order.
-    pub written: Vec<PathBuf>,
     /// Tk for the `online` window and the viewer, loaded on first use.
     pub display: crate::display::Display,
 }
 
-impl Session {
-    pub fn new(reporter: Box<dyn Reporter>) -> Session {
-        Session {
-            volume: None,
-            colormap: ColorMap::default_map(),
-            alphamap: AlphaMap::default_map(),
-            view: View::default(),
-            settings: Settings::default(),
-            output: PathBuf::from("vorang.tiff"),
-            next_number: 1,
-            legend: None,
-            movie: None,
-            last_help: None,
+impl Context {
+    pub fn new(reporter: Box<dyn Reporter>) -> Context {
+        Context {
+            session: Session::new(),
             reporter,
-            written: Vec::new(),
+            last_help: None,
             display: crate::display::Display::default(),
+        }
+    }
+
+    /// Shows the session's notices: warnings on the warning channel, notes on the other.
+    pub fn report(&mut self, notices: impl IntoIterator<Item = Notice>) {
+        for n in notices {
+            match n {
+                Notice::Warning(t) => self.reporter.warn(&t),
+                Notice::Note(t) => self.reporter.info(&t),
+            }
         }
     }
 }
 
-impl Session {
-    /// Writes the open movie, if any (`movie close`, a new `movie`, the session's end); the
-    /// message names the file and its frames.
-    pub fn close_movie(&mut self) -> Result<Option<(PathBuf, String)>, String> {
-        let Some(movie) = self.movie.take() else {
-            return Ok(None);
-        };
-        let frames = movie.frames();
-        let fps = movie.fps;
-        let path = movie.finish().map_err(|e| e.to_string())?;
-        let msg = format!(
-            "{}  {frames} frame{} at {fps} fps",
-            locate_display(&path),
-            if frames == 1 { "" } else { "s" }
-        );
-        self.written.push(path.clone());
-        Ok(Some((path, msg)))
-    }
-}
-
-impl Drop for Session {
+impl Drop for Context {
     /// A script that ends with a movie open still gets its movie.
     fn drop(&mut self) {
-        match self.close_movie() {
-            Ok(Some((_, msg))) => self.reporter.info(&msg),
+        match self.session.close_movie() {
+            Ok(Some((_, note))) => self.report([note]),
             Ok(None) => {}
             Err(e) => self.reporter.warn(&e),
         }
@@ -146,7 +110,7 @@ impl Drop for Session {
 
 /// A path for messages: relative to the current folder when inside it.
 pub fn locate_display(path: &Path) -> String {
-    locate::display_path(&path.display().to_string())
+    vorang::session::display_path(path)
 }
 
 /// A script error located in a file.
@@ -171,7 +135,7 @@ impl std::error::Error for ScriptError {}
 /// A Tcl interpreter with the VoRANG commands, sharing one session.
 pub struct Runner {
     interp: Interp,
-    session: Rc<RefCell<Session>>,
+    context: Rc<RefCell<Context>>,
     /// Where the last failing VoRANG command was called from: (message, file, line).
     last_failure: Rc<RefCell<Option<(String, String, usize)>>>,
 }
@@ -219,7 +183,7 @@ proc ::unknown {args} {
 impl Runner {
     pub fn new(reporter: Box<dyn Reporter>) -> Runner {
         let mut interp = Interp::new();
-        let session = Rc::new(RefCell::new(Session::new(reporter)));
+        let context = Rc::new(RefCell::new(Context::new(reporter)));
         let last_failure = Rc::new(RefCell::new(None));
         interp.register(
             "::vorang::nearest",
@@ -238,14 +202,14 @@ impl Runner {
         // The prelude is a fixed, valid script.
         let _ = interp.eval(PRELUDE);
         for info in COMMANDS {
-            let session = Rc::clone(&session);
+            let context = Rc::clone(&context);
             let failure = Rc::clone(&last_failure);
             let run = info.run;
             interp.register(
                 info.name,
                 Box::new(move |interp: &Interp, words: &[String]| {
                     let call = commands::Call::new(info, interp, words);
-                    let result = match session.try_borrow_mut() {
+                    let result = match context.try_borrow_mut() {
                         Ok(mut s) => run(&mut s, &call),
                         Err(_) => Err(format!(
                             "{} cannot run while another VoRANG command is running",
@@ -262,14 +226,24 @@ impl Runner {
         }
         Runner {
             interp,
-            session,
+            context,
             last_failure,
         }
     }
 
     /// The session the commands edit.
     pub fn session(&self) -> std::cell::RefMut<'_, Session> {
-        self.session.borrow_mut()
+        std::cell::RefMut::map(self.context.borrow_mut(), |c| &mut c.session)
+    }
+
+    /// The session with the script run's own state (reporter, `help`, Tk).
+    pub fn context(&self) -> std::cell::RefMut<'_, Context> {
+        self.context.borrow_mut()
+    }
+
+    /// The interpreter (for front ends that open a window on it, e.g. `vorang view`).
+    pub fn interp(&self) -> &Interp {
+        &self.interp
     }
 
     /// Runs a script file. Relative paths in it are relative to its folder.

@@ -436,11 +436,11 @@ pub fn volume(desc: &mut MeshDescription) -> Option<Result<(Volume, Vec<Warning>
         };
         convert(&v, d.ty.scalar, shift)
     };
-    let mut file = match crate::formats::hypermesh::read::read_with_blocks(&name, &text, line.max(1), block)
-    {
-        Ok(f) => f,
-        Err(e) => return Some(Err(e)),
-    };
+    let mut file =
+        match crate::formats::hypermesh::read::read_with_blocks(&name, &text, line.max(1), block) {
+            Ok(f) => f,
+            Err(e) => return Some(Err(e)),
+        };
     for f in &mut file.data.fields {
         if let Some(n) = &mut f.name {
             *n = unescape(n);
@@ -457,8 +457,9 @@ mod tests {
 
     fn written(text_edit: impl Fn(String) -> String) -> MeshDescription {
         let root = std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."));
-        let file = crate::formats::hypermesh::read_file(&root.join("tests/data/two_tets_data.hmesh"))
-            .unwrap_or_else(|e| panic!("{e}"));
+        let file =
+            crate::formats::hypermesh::read_file(&root.join("tests/data/two_tets_data.hmesh"))
+                .unwrap_or_else(|e| panic!("{e}"));
         let vol = Volume::from_file(file).unwrap_or_else(|e| panic!("{e}"));
         let mut bytes = Vec::new();
         super::super::vtu::write(&vol, &mut bytes).unwrap();

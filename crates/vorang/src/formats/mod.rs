@@ -188,16 +188,46 @@ pub type ReadFn = fn(&[u8], &str) -> Result<MeshDescription, ParseError>;
 pub type WriteFn =
     fn(&Volume, &Path, crate::formats::hypermesh::WriteOptions) -> Result<Vec<Warning>, Error>;
 
-/// One registry entry.
+/// A volume with the warnings of reading it.
+pub type Loaded = (Volume, Vec<Warning>);
+
+/// What a file holds, with the warnings of reading it.
+pub type DescribedFile = (Described, Vec<Warning>);
+
+/// What a file holds, for `vorang info`. Made once per file: the variants' sizes do not matter.
+#[allow(clippy::large_enum_variant)]
+pub enum Described {
+    /// A grid with its data; `label` names the format (e.g. `VTK XML UnstructuredGrid`,
+    /// `HyperMesh ASCII 0.7`).
+    Volume { volume: Volume, label: String },
+    /// Data without a grid (HyperMesh data-only files, for `data`): the file's name, its label
+    /// and its data.
+    Data {
+        name: String,
+        label: String,
+        data: crate::volume::DataSet,
+    },
+}
+
+/// One registry entry: how to recognise a format and everything VoRANG does with its files.
 pub struct Format {
     pub name: &'static str,
     /// File-name extensions (lower case, without the dot).
     pub extensions: &'static [&'static str],
     /// Whether the first bytes of a file are this format.
     pub sniff: fn(&[u8]) -> bool,
-    /// Reads a whole file into a description; `None` for HyperMesh (read by
-    /// [`crate::formats::hypermesh`]).
+    /// The format-neutral description of a file held in memory, for the formats read through
+    /// one (`None` for HyperMesh, which carries more than a description can: edges, triangles,
+    /// materials, edge-element and analytic fields).
     pub read: Option<ReadFn>,
+    /// `volume FILE`: the volume of a file.
+    pub load: fn(&Path) -> Result<Loaded, Error>,
+    /// The volume of a file held in memory (`name` labels messages).
+    pub load_bytes: fn(&[u8], &str) -> Result<Loaded, ParseError>,
+    /// `data ?+? FILE`: `vol` with the file's fields replacing (or, `append`, added to) its own.
+    pub load_data: fn(&Volume, &Path, bool) -> Result<Loaded, Error>,
+    /// `vorang info FILE`: what the file holds.
+    pub describe: fn(&Path) -> Result<DescribedFile, Error>,
     /// Writes a volume in this format; `None` for formats VoRANG only reads.
     pub write: Option<WriteFn>,
 }
@@ -209,41 +239,63 @@ impl Format {
     }
 }
 
-/// Every format, HyperMesh first (the fallback for unknown extensions when writing).
+/// The entry of a format read through a [`MeshDescription`]: every operation is the
+/// description's reader followed by the one builder ([`build::volume`]).
+macro_rules! described_format {
+    ($name:expr, $extensions:expr, $sniff:expr, $read:expr, $write:expr) => {
+        Format {
+            name: $name,
+            extensions: $extensions,
+            sniff: $sniff,
+            read: Some($read),
+            load: |path| load_described(path, $read),
+            load_bytes: |bytes, name| build::volume($read(bytes, name)?),
+            load_data: |vol, path, append| {
+                let (other, warnings) = load_described(path, $read)?;
+                let mut next = vol.clone();
+                next.attach_fields_of(other, append)?;
+                Ok((next, warnings))
+            },
+            describe: |path| {
+                let desc = $read(&read_bytes_of(path)?, &path.display().to_string())?;
+                let label = desc.format.clone();
+                let (volume, warnings) = build::volume(desc)?;
+                Ok((Described::Volume { volume, label }, warnings))
+            },
+            write: $write,
+        }
+    };
+}
+
+/// Every format, HyperMesh first (the fallback for unknown extensions when writing, and for
+/// text no other format recognises when reading: its reader reports on the title line).
 pub const FORMATS: &[Format] = &[
-    Format {
-        name: "HyperMesh",
-        extensions: &["hmesh", "hmascii", "hmbin", "bin", "asc", "hm"],
-        sniff: |b| starts_after_space(b, b"# HyperMesh") || starts_after_space(b, b"#HyperMesh"),
-        read: None,
-        write: Some(|vol, path, opts| {
-            crate::formats::hypermesh::save_volume(vol, path, opts).map(|()| Vec::new())
-        }),
-    },
-    Format {
-        name: "VTK XML UnstructuredGrid",
-        extensions: &["vtu"],
-        sniff: vtu::sniff,
-        read: Some(vtu::read),
-        write: Some(|vol, path, _| vtu::save(vol, path)),
-    },
-    Format {
-        name: "legacy VTK",
-        extensions: &["vtk"],
-        sniff: vtk_legacy::sniff,
-        read: Some(vtk_legacy::read),
-        write: None,
-    },
-    Format {
-        name: "Gmsh",
-        extensions: &["msh"],
-        sniff: msh::sniff,
-        read: Some(msh::read),
-        write: None,
-    },
+    hypermesh::FORMAT,
+    described_format!(
+        "VTK XML UnstructuredGrid",
+        &["vtu"],
+        vtu::sniff,
+        vtu::read,
+        Some(|vol, path, _| vtu::save(vol, path))
+    ),
+    described_format!(
+        "legacy VTK",
+        &["vtk"],
+        vtk_legacy::sniff,
+        vtk_legacy::read,
+        None
+    ),
+    described_format!("Gmsh", &["msh"], msh::sniff, msh::read, None),
 ];
 
-fn starts_after_space(bytes: &[u8], magic: &[u8]) -> bool {
+/// A described format's volume from a file: the file's bytes are freed before the mesh is
+/// built (peak memory).
+fn load_described(path: &Path, read: ReadFn) -> Result<Loaded, Error> {
+    let desc = read(&read_bytes_of(path)?, &path.display().to_string())?;
+    Ok(build::volume(desc)?)
+}
+
+pub(crate) fn starts_after_space(bytes: &[u8], magic: &[u8]) -> bool {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let start = bytes
         .iter()
@@ -300,8 +352,8 @@ fn unknown_format(name: &str) -> ParseError {
     )
 }
 
-/// Reads a non-HyperMesh file into a description (the content decides the format). Errors for
-/// HyperMesh files and for unknown formats.
+/// Reads a file held in memory into a description (the content decides the format). Errors
+/// for HyperMesh files and for unknown formats.
 pub fn read_description(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
     match detect(bytes, Path::new(name)) {
         Some(Format {
@@ -326,20 +378,21 @@ fn read_bytes_of(path: &Path) -> Result<Vec<u8>, Error> {
     std::fs::read(path).map_err(|e| Error::io(path, e))
 }
 
-/// Reads a non-HyperMesh file into a description; `None` for a HyperMesh file (or text of
-/// unknown format, which the HyperMesh reader reports on).
-pub fn read_description_file(path: &Path) -> Result<Option<MeshDescription>, Error> {
-    let head = read_head(path);
-    match detect(&head, path) {
-        Some(Format {
-            read: Some(read), ..
-        }) => {
-            let bytes = read_bytes_of(path)?;
-            Ok(Some(read(&bytes, &path.display().to_string())?))
-        }
-        None if looks_binary(&head) => Err(unknown_format(&path.display().to_string()).into()),
-        _ => Ok(None),
+/// The format to read `bytes` (a file's head, or a whole file held in memory) with: by content,
+/// then by extension; text that neither decides goes to the HyperMesh reader, whose message
+/// about the title line users of the thesis's format know; unknown binary content is an error
+/// naming every format.
+pub fn format_to_read(bytes: &[u8], path: &Path) -> Result<&'static Format, ParseError> {
+    match detect(bytes, path) {
+        Some(format) => Ok(format),
+        None if looks_binary(bytes) => Err(unknown_format(&path.display().to_string())),
+        None => Ok(&FORMATS[0]),
     }
+}
+
+/// The format of a file on disk ([`format_to_read`] on its first 4 KiB).
+pub fn format_of_file(path: &Path) -> Result<&'static Format, Error> {
+    Ok(format_to_read(&read_head(path), path)?)
 }
 
 impl Volume {
@@ -350,28 +403,19 @@ impl Volume {
     }
 }
 
-/// Loads a volume from any supported file (`volume FILE`). HyperMesh files go through the
-/// HyperMesh reader unchanged; warnings are returned, not printed.
-pub fn load_volume(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
-    let head = read_head(path);
-    let name = path.display().to_string();
-    match detect(&head, path) {
-        Some(Format {
-            read: Some(read), ..
-        }) => {
-            // The file's bytes are freed before the mesh is built (peak memory).
-            let desc = read(&read_bytes_of(path)?, &name)?;
-            Ok(build::volume(desc)?)
-        }
-        None if looks_binary(&head) => Err(unknown_format(&name).into()),
-        // HyperMesh, or text of unknown format (the HyperMesh reader then reports on its
-        // title line, as it always has): the HyperMesh reader, unchanged.
-        _ => {
-            let file = crate::formats::hypermesh::read_file(path)?;
-            let warnings = file.warnings.clone();
-            Ok((Volume::from_file(file)?, warnings))
-        }
-    }
+/// Loads a volume from any supported file (`volume FILE`); warnings are returned, not printed.
+pub fn load_volume(path: &Path) -> Result<Loaded, Error> {
+    (format_of_file(path)?.load)(path)
+}
+
+/// `data ?+? FILE`: `vol` with the fields of a file of any supported format.
+pub fn load_data(vol: &Volume, path: &Path, append: bool) -> Result<Loaded, Error> {
+    (format_of_file(path)?.load_data)(vol, path, append)
+}
+
+/// `vorang info FILE`: what a file of any supported format holds.
+pub fn describe_file(path: &Path) -> Result<DescribedFile, Error> {
+    (format_of_file(path)?.describe)(path)
 }
 
 /// The first 4 KiB of a file for detection (empty if it cannot be read: the reader that
@@ -387,26 +431,8 @@ fn read_head(path: &Path) -> Vec<u8> {
 
 /// [`load_volume`] for a file held in memory (`name` labels messages and picks the format when
 /// the content does not).
-pub fn volume_from_bytes(bytes: &[u8], name: &str) -> Result<(Volume, Vec<Warning>), ParseError> {
-    match detect(bytes, Path::new(name)) {
-        Some(Format {
-            read: Some(read), ..
-        }) => {
-            let desc = read(bytes, name)?;
-            build::volume(desc)
-        }
-        Some(_) => hypermesh_volume(bytes, name),
-        // Unknown content and extension: the HyperMesh reader's own message about the title
-        // line is the one users of the thesis's format know, so plain text goes there.
-        None if !looks_binary(bytes) => hypermesh_volume(bytes, name),
-        None => Err(unknown_format(name)),
-    }
-}
-
-fn hypermesh_volume(bytes: &[u8], name: &str) -> Result<(Volume, Vec<Warning>), ParseError> {
-    let file = crate::formats::hypermesh::read_bytes(bytes, name)?;
-    let warnings = file.warnings.clone();
-    Ok((Volume::from_file(file)?, warnings))
+pub fn volume_from_bytes(bytes: &[u8], name: &str) -> Result<Loaded, ParseError> {
+    (format_to_read(bytes, Path::new(name))?.load_bytes)(bytes, name)
 }
 
 fn looks_binary(bytes: &[u8]) -> bool {
@@ -418,10 +444,7 @@ fn looks_binary(bytes: &[u8]) -> bool {
 /// Whether a file is a HyperMesh file (or of unknown format and text, which the HyperMesh
 /// reader then reports on).
 pub fn is_hypermesh(bytes: &[u8], path: &Path) -> bool {
-    match detect(bytes, path) {
-        Some(f) => f.read.is_none(),
-        None => !looks_binary(bytes),
-    }
+    format_to_read(bytes, path).is_ok_and(|f| f.read.is_none())
 }
 
 /// Writes a volume in the format its file name asks for: `.vtu` (binary appended, zlib) or

@@ -143,8 +143,10 @@ pub fn parse_map<T: Registry + ?Sized>(
             continue;
         }
         if let Some(name) = content.strip_prefix('@') {
-            let valid =
-                !name.is_empty() && name.bytes().all(crate::formats::hypermesh::header::is_marker_char);
+            let valid = !name.is_empty()
+                && name
+                    .bytes()
+                    .all(crate::formats::hypermesh::header::is_marker_char);
             if !valid {
                 return Err(err(
                     n,
@@ -373,7 +375,11 @@ fn method_options(
                     "{name}: a second marker '{w}'; a method line takes one"
                 )));
             }
-            if m.is_empty() || !m.bytes().all(crate::formats::hypermesh::header::is_marker_char) {
+            if m.is_empty()
+                || !m
+                    .bytes()
+                    .all(crate::formats::hypermesh::header::is_marker_char)
+            {
                 return Err(err(format!("{name}: '{w}' is not a marker such as @1")));
             }
             marker = Some(m.to_string());

@@ -1,16 +1,16 @@
 //! Camera and transforms: `persp_camera`, `ortho_camera`, `vol_scale`, `vol_translate`,
-//! `vol_rotate`, `look_at` (thesis A.1; conventions SPEC §5).
+//! `vol_rotate`, `look_at` (thesis A.1; conventions in docs/camera.md).
 
 use super::{Call, CommandInfo};
+use crate::script::Context;
 use vorang::scene::{Camera, LookAt, TransformOp};
-use crate::script::Session;
 
 pub const PERSP_CAMERA: CommandInfo = CommandInfo {
     name: "persp_camera",
     usage: "fovy aspect near far",
     summary: "perspective camera: vertical field of view (degrees), width/height, clipping depths near < far (both > 0)",
     details: "Clipping is by planes of constant depth.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(4..=4)?;
         let [fovy, aspect, near, far] = c.numbers(0, ["fovy", "aspect", "near", "far"])?;
         let cam = Camera::Persp {
@@ -19,8 +19,7 @@ pub const PERSP_CAMERA: CommandInfo = CommandInfo {
             near,
             far,
         };
-        cam.validate()?;
-        s.view.camera = Some(cam);
+        s.session.set_camera(cam)?;
         Ok(String::new())
     },
 };
@@ -30,7 +29,7 @@ pub const ORTHO_CAMERA: CommandInfo = CommandInfo {
     usage: "left right bottom top front back",
     summary: "orthographic camera: the window in eye coordinates and the depth range",
     details: "Default (no camera command): the x/y extent of the grid's bounding box, no depth clipping. Later transforms do not change this default.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(6..=6)?;
         let [left, right, bottom, top, front, back] =
             c.numbers(0, ["left", "right", "bottom", "top", "front", "back"])?;
@@ -42,8 +41,7 @@ pub const ORTHO_CAMERA: CommandInfo = CommandInfo {
             front,
             back,
         };
-        cam.validate()?;
-        s.view.camera = Some(cam);
+        s.session.set_camera(cam)?;
         Ok(String::new())
     },
 };
@@ -53,19 +51,9 @@ pub const VIEW_ALL: CommandInfo = CommandInfo {
     usage: "",
     summary: "frame the whole transformed volume: a camera of the current kind, same viewing direction, the volume inside the image with a 5 % margin",
     details: "Orthographic (also when no camera is set): the window is centred on the volume and widened to the image's aspect ratio; the depth range covers it. Perspective: field of view and aspect stay, the eye moves along the viewing direction and looks at the volume's centre; near and far enclose it. Uses the current volume, transforms and image size: call it after them.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(0..=0)?;
-        let vol = s
-            .volume
-            .clone()
-            .ok_or("view_all: no volume loaded (use 'volume FILE' first)")?;
-        let bbox = vol.mesh.bbox();
-        s.view.fit(
-            vol.mesh.nodes(),
-            bbox.center(),
-            s.settings.width,
-            s.settings.height,
-        )?;
+        s.session.view_all()?;
         Ok(String::new())
     },
 };
@@ -75,13 +63,10 @@ pub const VOL_SCALE: CommandInfo = CommandInfo {
     usage: "x y z",
     summary: "scale the volume about the origin (after the transforms so far)",
     details: "",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(3..=3)?;
         let v = c.numbers(0, ["x", "y", "z"])?;
-        if v.contains(&0.0) {
-            return Err("vol_scale: a scale factor of 0 would flatten the volume".into());
-        }
-        s.view.transforms.push(TransformOp::Scale(v));
+        s.session.transform(TransformOp::Scale(v))?;
         Ok(String::new())
     },
 };
@@ -91,11 +76,10 @@ pub const VOL_TRANSLATE: CommandInfo = CommandInfo {
     usage: "x y z",
     summary: "move the volume (after the transforms so far)",
     details: "",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(3..=3)?;
-        s.view
-            .transforms
-            .push(TransformOp::Translate(c.numbers(0, ["x", "y", "z"])?));
+        let v = c.numbers(0, ["x", "y", "z"])?;
+        s.session.transform(TransformOp::Translate(v))?;
         Ok(String::new())
     },
 };
@@ -105,16 +89,13 @@ pub const VOL_ROTATE: CommandInfo = CommandInfo {
     usage: "x y z degrees",
     summary: "rotate the volume about the axis (x, y, z) through its bounding-box centre at its current position (right-handed)",
     details: "",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(4..=4)?;
         let [x, y, z, degrees] = c.numbers(0, ["x", "y", "z", "degrees"])?;
-        if [x, y, z] == [0.0; 3] {
-            return Err("vol_rotate: the rotation axis must not be zero".into());
-        }
-        s.view.transforms.push(TransformOp::Rotate {
+        s.session.transform(TransformOp::Rotate {
             axis: [x, y, z],
             degrees,
-        });
+        })?;
         Ok(String::new())
     },
 };
@@ -124,14 +105,14 @@ pub const LOOK_AT: CommandInfo = CommandInfo {
     usage: "ex ey ez rx ry rz ux uy uz",
     summary: "eye position, reference point and up direction",
     details: "Default: 0 0 0  0 0 -1  0 1 0. Eye = reference keeps the eye and looks along −z; an up vector not orthogonal to the view is orthogonalised.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(9..=9)?;
         let v = c.numbers(0, ["ex", "ey", "ez", "rx", "ry", "rz", "ux", "uy", "uz"])?;
-        s.view.look_at = LookAt {
+        s.session.set_look_at(LookAt {
             eye: [v[0], v[1], v[2]],
             reference: [v[3], v[4], v[5]],
             up: [v[6], v[7], v[8]],
-        };
+        });
         Ok(String::new())
     },
 };

@@ -1,14 +1,14 @@
 //! `help ?command?`, generated from the command table and the registries.
 
 use super::{COMMANDS, Call, CommandInfo};
-use crate::script::Session;
+use crate::script::Context;
 
 pub const HELP: CommandInfo = CommandInfo {
     name: "help",
     usage: "?command?",
     summary: "list the VoRANG commands, or describe one",
     details: "All of Tcl 8.6 is available too (set, for, foreach, proc, expr, source …).",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(0..=1)?;
         let text = match c.args().first() {
             None => overview(),

@@ -1,22 +1,18 @@
 //! Image settings: `imagesize`, `output`, `set_nr`, `background`, `movie` (thesis A.1 „Bildangaben“).
 
-use std::sync::Arc;
-
 use super::{Call, CommandInfo};
-use vorang::framebuffer::{Background, BackgroundImage, format_for};
-use crate::script::Session;
+use crate::script::Context;
+use vorang::framebuffer::Background;
 
 pub const IMAGESIZE: CommandInfo = CommandInfo {
     name: "imagesize",
     usage: "width height",
     summary: "size of the images in pixels",
     details: "Default 512 512.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(2..=2)?;
         let (w, h) = (c.count(0, "width")?, c.count(1, "height")?);
-        vorang::render::check_size(w, h).map_err(|e| format!("imagesize: {e}"))?;
-        s.settings.width = w;
-        s.settings.height = h;
+        s.session.set_image_size(w, h)?;
         Ok(String::new())
     },
 };
@@ -26,16 +22,9 @@ pub const OUTPUT: CommandInfo = CommandInfo {
     usage: "base.format",
     summary: "base name and format of the images: 'output img.png' writes img.0001.png, img.0002.png …",
     details: "The format follows the extension: tiff/tif (default: vorang.tiff), png, bmp, tga, ppm/pnm, pgm, pam, jpg/jpeg, gif, ico, qoi, webp, hdr, exr, pfm (float RGB), rgb/sgi/rgba (SGI), and from the thesis's list pbm and xbm (1-bit: white where the luminance is at least 0.5), xwd, ras, pcx, eps, ps, pict, iff (Amiga ILBM), x (AVS), viff (Khoros) and rle (Utah RLE, the thesis's rlc) — docs/formats.md lists them all. 8-bit formats clip to [0, 1]; exr, pfm and hdr keep the floats. Missing folders are created. A different base name restarts the numbers at 1 (use set_nr after output to start elsewhere); the same base again, also in another format, keeps counting.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(1..=1)?;
-        let path = c.path(0);
-        format_for(&path).map_err(|e| e.to_string())?;
-        // A new base name starts a new series (issue 16): b.0001 after a.0001, a.0002; another
-        // format of the same base keeps counting (a.0003.pfm after a.0002.png).
-        if path.with_extension("") != s.output.with_extension("") {
-            s.next_number = 1;
-        }
-        s.output = path;
+        s.session.set_output(c.path(0))?;
         Ok(String::new())
     },
 };
@@ -45,14 +34,9 @@ pub const SET_NR: CommandInfo = CommandInfo {
     usage: "number",
     summary: "the number the next image gets in its file name",
     details: "The first image is number 1 (base.0001.ext); every render counts up.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(1..=1)?;
-        let n = c.count(0, "number")?;
-        // The largest number leaves room for the count-up after the render.
-        s.next_number = u32::try_from(n)
-            .ok()
-            .filter(|&n| n < u32::MAX)
-            .ok_or_else(|| format!("set_nr: {n} is too large (at most {})", u32::MAX - 1))?;
+        s.session.set_number(c.count(0, "number")?)?;
         Ok(String::new())
     },
 };
@@ -62,23 +46,17 @@ pub const BACKGROUND: CommandInfo = CommandInfo {
     usage: "file|clear|none|r g b",
     summary: "an image under the volume (resampled to the image size), 'clear' for uniform white, 'none' for a transparent image, or a uniform colour",
     details: "Default: uniform white. The image may be in any format 'output' writes except eps and ps (reading PostScript needs an interpreter); its 8-bit values count as intensities 0…1, pfm, exr and hdr values as they are. A colour (e.g. 'background 0 0 0') is an extension of the thesis's command. Image files are opaque (what the framebuffer shows, composited over the background); 'none' means no background light and writes straight alpha (the volume's opacity) where the format has alpha — light emitted without absorption cannot be represented that way.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         if c.args().len() == 3 {
             let rgb = c.numbers(0, ["r", "g", "b"])?;
-            if rgb.iter().any(|v| *v < 0.0) {
-                return Err("background: colour components must be ≥ 0".into());
-            }
-            s.settings.background = Background::Color(rgb);
+            s.session.set_background(Background::Color(rgb))?;
             return Ok(String::new());
         }
         c.expect(1..=1)?;
-        if c.args()[0] == "clear" {
-            s.settings.background = Background::default();
-        } else if c.args()[0] == "none" {
-            s.settings.background = Background::None;
-        } else {
-            let img = BackgroundImage::load(&c.path(0)).map_err(|e| e.to_string())?;
-            s.settings.background = Background::Image(Arc::new(img));
+        match c.args()[0].as_str() {
+            "clear" => s.session.set_background(Background::default())?,
+            "none" => s.session.set_background(Background::None)?,
+            _ => s.session.load_background(&c.path(0))?,
         }
         Ok(String::new())
     },
@@ -89,12 +67,12 @@ pub const MOVIE: CommandInfo = CommandInfo {
     usage: "file ?fps? | close",
     summary: "collect the following renders as the frames of an animation: 'movie spin.gif 15' … render_btf … 'movie close' writes spin.gif",
     details: "While a movie is open, each render adds a frame (with the legend, if on) instead of writing a numbered image; the frames wait in a hidden folder .NAME.frames next to the movie. Formats by extension: gif (256 colours per frame), apng or png (animated PNG, full colour) written by VoRANG; mp4, webm, mkv, mov through the ffmpeg program, which must be on the PATH. Default 10 frames per second; the movie loops. A new 'movie' closes the open one; so does the end of the session.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(1..=2)?;
         if c.args()[0] == "close" && c.args().len() == 1 {
-            return match s.close_movie()? {
-                Some((path, msg)) => {
-                    s.reporter.info(&msg);
+            return match s.session.close_movie()? {
+                Some((path, note)) => {
+                    s.report([note]);
                     Ok(path.display().to_string())
                 }
                 None => Err("movie close: no movie is open".into()),
@@ -105,12 +83,8 @@ pub const MOVIE: CommandInfo = CommandInfo {
         } else {
             10.0
         };
-        let path = c.path(0);
-        vorang::movie::MovieFormat::for_path(&path).map_err(|e| format!("movie: {e}"))?;
-        if let Some((_, msg)) = s.close_movie()? {
-            s.reporter.info(&msg);
-        }
-        s.movie = Some(vorang::movie::Movie::open(&path, fps).map_err(|e| format!("movie: {e}"))?);
+        let notes = s.session.open_movie(&c.path(0), fps)?;
+        s.report(notes);
         Ok(String::new())
     },
 };

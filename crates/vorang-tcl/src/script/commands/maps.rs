@@ -1,28 +1,18 @@
 //! `colormap`, `alphamap`, `linedraw`, `legend` (thesis A.1 „Angaben zu Beleuchtung und Darstellung“).
 
 use super::{Call, CommandInfo};
+use crate::script::Context;
 use vorang::legend::Place;
-use vorang::mapping::{
-    AlphaMap, AlphaShading, ColorMap, ColorShading, Mapping, preset_colormap, ramp_alphamap,
-    read_map,
-};
+use vorang::mapping::{AlphaShading, ColorShading, preset_colormap, ramp_alphamap, read_map};
 use vorang::render::LineDraw;
-use crate::script::Session;
-
-/// Binds the maps now if a volume is loaded, so that a mismatch is reported at the command.
-fn check(s: &Session, color: &ColorMap, alpha: &AlphaMap) -> Result<(), String> {
-    if let Some(vol) = &s.volume {
-        Mapping::new(color, alpha, vol).map_err(|e| e.to_string())?;
-    }
-    Ok(())
-}
+use vorang::session::Notice;
 
 pub const COLORMAP: CommandInfo = CommandInfo {
     name: "colormap",
     usage: "file | preset name lo hi ?field?",
     summary: "the colour mapping: data → emission η (a '# VoRANG Colormap 1.0' file, or a built-in colour table over [lo, hi])",
     details: "Default without a file: constant red emission (1 0 0). Methods: CONSTANT, IDENTITY, SIMPLE_EMITTER, ABSORPTION_WEIGHTED, CONST_CELL, LIT_EMITTER (lit by addlight). 'colormap preset viridis 0 1' is a SIMPLE_EMITTER table from lo to hi (clamped outside) on field 0 or the given field (number or name); 'vorang info FILE' prints the data ranges and a line to paste. Presets:",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         let (map, warnings) =
             if c.args().first().is_some_and(|a| a == "preset") && c.args().len() > 1 {
                 c.expect(4..=5)?;
@@ -34,11 +24,8 @@ pub const COLORMAP: CommandInfo = CommandInfo {
                 c.expect(1..=1)?;
                 read_map::<dyn ColorShading>(&c.path(0)).map_err(|e| e.to_string())?
             };
-        check(s, &map, &s.alphamap)?;
-        for w in warnings {
-            s.reporter.warn(&w.to_string());
-        }
-        s.colormap = map;
+        s.session.set_colormap(map)?;
+        s.report(warnings.iter().map(|w| Notice::Warning(w.to_string())));
         Ok(String::new())
     },
 };
@@ -48,7 +35,7 @@ pub const ALPHAMAP: CommandInfo = CommandInfo {
     usage: "file | ramp lo hi chi_max ?field?",
     summary: "the alpha mapping: data → absorption χ (a '# VoRANG Alphamap 1.0' file, or a linear ramp over [lo, hi])",
     details: "Default without a file: constant absorption 2. Methods: CONSTANT, SIMPLE_ABSORBER, BARY_SHADING, CONST_CELL. 'alphamap ramp 0 1 5' is a SIMPLE_ABSORBER table: χ = 0 at lo and below, chi_max at hi and above, linear in between, on field 0 or the given field. χ is per world unit: χ·length ≈ 4 is nearly opaque.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         let (map, warnings) = if c.args().first().is_some_and(|a| a == "ramp") && c.args().len() > 1
         {
             c.expect(4..=5)?;
@@ -60,11 +47,8 @@ pub const ALPHAMAP: CommandInfo = CommandInfo {
             c.expect(1..=1)?;
             read_map::<dyn AlphaShading>(&c.path(0)).map_err(|e| e.to_string())?
         };
-        check(s, &s.colormap, &map)?;
-        for w in warnings {
-            s.reporter.warn(&w.to_string());
-        }
-        s.alphamap = map;
+        s.session.set_alphamap(map)?;
+        s.report(warnings.iter().map(|w| Notice::Warning(w.to_string())));
         Ok(String::new())
     },
 };
@@ -74,9 +58,9 @@ pub const LINEDRAW: CommandInfo = CommandInfo {
     usage: "on|off|field {values}",
     summary: "draw the grid's edges as opaque black lines: all, none, or those of the cells whose Constant field has one of the values",
     details: "Default: on. Lines are depth-correct: the volume in front of them dims them.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(1..=2)?;
-        s.settings.lines = match (c.args().len(), c.args()[0].as_str()) {
+        let lines = match (c.args().len(), c.args()[0].as_str()) {
             (1, "on") => LineDraw::All,
             (1, "off") => LineDraw::Off,
             (2, _) => {
@@ -93,17 +77,11 @@ pub const LINEDRAW: CommandInfo = CommandInfo {
                         })
                     })
                     .collect::<Result<Vec<f64>, String>>()?;
-                if let Some(vol) = &s.volume {
-                    let lines = LineDraw::Cells {
-                        field,
-                        values: values.clone(),
-                    };
-                    vorang::render::lines::edges(vol, &lines).map_err(|e| e.to_string())?;
-                }
                 LineDraw::Cells { field, values }
             }
             _ => return Err(c.wrong_args()),
         };
+        s.session.set_lines(lines)?;
         Ok(String::new())
     },
 };
@@ -113,7 +91,7 @@ pub const LEGEND: CommandInfo = CommandInfo {
     usage: "on|off ?right|left|top|bottom?",
     summary: "draw the colormap as a bar with its range and a few labelled values into every image",
     details: "Default: off; 'legend on' puts the bar on the right. The bar runs from the map's lowest table value to its highest (CONSTANT: the field's data range); colours above 1 are scaled down to the largest component. Maps with categories, IDENTITY or CONST_CELL have no single scale: the render warns and draws none.",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(1..=2)?;
         let place = match c.args().get(1) {
             None => Place::Right,
@@ -124,11 +102,11 @@ pub const LEGEND: CommandInfo = CommandInfo {
                 )
             })?,
         };
-        s.legend = match c.args()[0].as_str() {
+        s.session.set_legend(match c.args()[0].as_str() {
             "on" => Some(place),
             "off" => None,
             other => return Err(format!("legend: expected on or off, found '{other}'")),
-        };
+        });
         Ok(String::new())
     },
 };

@@ -1,4 +1,4 @@
-//! The VoRANG commands (thesis A.1, SPEC §9), one table: name, usage, summary, handler. The
+//! The VoRANG commands (thesis A.1; docs/commands.md), one table: name, usage, summary, handler. The
 //! Tcl registration, `help`, and the "wrong # args" messages all come from it. Commands are
 //! grouped in files by what they set.
 
@@ -13,11 +13,11 @@ mod view;
 
 use std::path::{Path, PathBuf};
 
-use super::Session;
+use super::Context;
 use super::tcl::Interp;
 
 /// A command handler: edits the session, returns the Tcl result or an error message.
-pub type Run = fn(&mut Session, &Call) -> Result<String, String>;
+pub type Run = fn(&mut Context, &Call) -> Result<String, String>;
 
 /// One entry of the command table.
 pub struct CommandInfo {
@@ -163,7 +163,7 @@ impl<'a> Call<'a> {
         }
     }
 
-    /// Argument `i` as a path, relative to the script's folder (SPEC §9).
+    /// Argument `i` as a path, relative to the script's folder (docs/scripts.md).
     pub fn path(&self, i: usize) -> PathBuf {
         let word = self.args().get(i).map_or("", |w| w.as_str());
         let p = Path::new(word);

@@ -1,14 +1,14 @@
-//! `view` (issue 14): the interactive viewer on the current scene.
+//! `view`: the interactive viewer on the current scene.
 
 use super::{Call, CommandInfo};
-use crate::script::Session;
+use crate::script::Context;
 
 pub const VIEW: CommandInfo = CommandInfo {
     name: "view",
     usage: "",
     summary: "open the interactive viewer on the current scene; returns when it is closed, keeping its view and method for the next render",
     details: "Drag turns the volume about its centre, shift-drag pans, the wheel zooms; keys 1–4 choose exact, interpolateCoeff, interpolateColor, test; + and − change the brightness; r resets; s saves the image (numbered like a render); p prints the commands that reproduce the view; q quits. Needs a display (X11).",
-    run: |s: &mut Session, c: &Call| {
+    run: |s: &mut Context, c: &Call| {
         c.expect(0..=0)?;
         crate::display::viewer::run(s, c.interp())
     },

@@ -30,12 +30,14 @@
 
 mod ascii;
 mod binary;
+mod codec;
 pub mod header;
 mod input;
 pub mod read;
 mod volume;
 pub mod write;
 
+pub use codec::FORMAT;
 pub use header::Encoding;
 
 // The data types live in [`crate::data`] (every format uses them); re-exported here, where

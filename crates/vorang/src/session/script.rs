@@ -1,11 +1,12 @@
-//! What the viewer's `p` prints: the script commands that set the image size, method, grid lines
-//! and view. Numbers are written in shortest round-trip form (Rust's `Display` for `f64`), which
-//! Tcl reads back exactly, so the commands build the very same `View` and `Method` and render the
-//! saved image bit for bit.
+//! The session as script commands (the viewer's `p`): the commands that set the image size,
+//! method, grid lines and view. Numbers are written in shortest round-trip form (Rust's
+//! `Display` for `f64`), which Tcl reads back exactly, so the commands build the very same `View`
+//! and `Method` and render the saved image bit for bit.
 
-use vorang::render::Method;
-use vorang::render::lines::LineDraw;
-use vorang::scene::{Camera, TransformOp, View};
+use super::Session;
+use crate::render::Method;
+use crate::render::lines::LineDraw;
+use crate::scene::{Camera, TransformOp, View};
 
 /// The script command that sets `method` (numbers in shortest round-trip form, so the command
 /// gives back the same method bit for bit).
@@ -22,7 +23,7 @@ pub fn method_command(method: &Method) -> String {
 
 /// The script commands that set the image size, method, grid lines and `view` (what `p`
 /// prints). Numbers are in shortest round-trip form: the commands build the same view.
-pub fn commands(
+pub fn commands_for(
     view: &View,
     method: &Method,
     lines: &LineDraw,
@@ -84,34 +85,15 @@ pub fn commands(
     out
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::display::controls::{BRIGHTNESS_STEP, scale_brightness};
-    use crate::display::orbit::Orbit;
-
-    fn unit_box() -> vorang::volume::Volume {
-        vorang::volume::jittered_box(48, 0.0, 1)
-    }
-
-    #[test]
-    fn printed_commands_build_the_same_view_and_method() {
-        let vol = unit_box();
-        let mut runner = crate::script::Runner::new(Box::new(crate::script::Collect::default()));
-        let mut o = Orbit::new(&View::default(), &vol, 64, 48).unwrap();
-        o.rotate(37.0, -11.0);
-        o.zoom_by(1.1 * 1.1);
-        o.pan(3.0, 7.0);
-        let method = Method::parse(&["exact", "linear", "0", "1.3"]).unwrap();
-        let method = scale_brightness(&method, BRIGHTNESS_STEP);
-        let view = o.view();
-        let script = commands(&view, &method, &LineDraw::Off, (64, 48)).join("\n");
-        runner.session().volume = Some(std::sync::Arc::new(vol));
-        runner.run_string(&script, "-e").unwrap();
-        let s = runner.session();
-        assert_eq!(s.view, view);
-        assert_eq!(s.settings.method, method);
-        assert_eq!((s.settings.width, s.settings.height), (64, 48));
-        assert_eq!(s.settings.lines, LineDraw::Off);
+impl Session {
+    /// The commands that rebuild this session's image size, method, grid lines and view (after
+    /// loading the volume and maps): rendering after them gives the same image bit for bit.
+    pub fn script(&self) -> Vec<String> {
+        commands_for(
+            &self.view,
+            &self.settings.method,
+            &self.settings.lines,
+            (self.settings.width, self.settings.height),
+        )
     }
 }

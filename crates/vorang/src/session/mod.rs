@@ -1,0 +1,450 @@
+//! The session: one typed scene and the step that renders it — the layer below every front end.
+//!
+//! The thesis's script commands (thesis 4.2, appendix A.1) edit a scene — the volume, the colour
+//! and alpha maps, the camera and transforms, the method, the image settings, lights, legend and
+//! the numbering of the images — and `render_btf`/`render_ftb` turn it into a numbered image.
+//! [`Session`] is that scene as typed state with setters that validate (the names follow the
+//! commands), and [`Session::render_frame`] is the one step from scene to file: bind the maps →
+//! render → legend → the messages → the numbered file or the movie's next frame.
+//!
+//! Every front end is a thin caller: the Tcl commands parse their words and call a setter, the
+//! Python module and the viewer call the setters directly, and [`Session::script`] prints the
+//! scene back as script commands (the viewer's `p`). The session prints nothing: what it has to
+//! say comes back as [`Notice`]s, which each front end shows in its own idiom (standard error,
+//! Python's `warnings`), so every front end shows the same texts.
+
+mod frame;
+mod script;
+
+pub use script::{commands_for, method_command};
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+
+pub use frame::{Frame, Hooks, Image, Prepared, timing_line};
+
+use crate::formats::hypermesh::{self, Encoding, WriteOptions};
+use crate::framebuffer::{Background, BackgroundImage, format_for};
+use crate::legend::Place;
+use crate::mapping::{AlphaMap, ColorMap, Mapping};
+use crate::movie::{Movie, MovieFormat};
+use crate::render::{LineDraw, Method, Settings};
+use crate::scene::{Camera, Light, LookAt, TransformOp, View};
+use crate::volume::Volume;
+
+/// Something the session has to tell the user: a warning (a default or an input that may defeat
+/// what the user asked for) or a note (what happened, e.g. cells ordered per pixel).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Notice {
+    Warning(String),
+    Note(String),
+}
+
+impl Notice {
+    pub fn text(&self) -> &str {
+        match self {
+            Notice::Warning(t) | Notice::Note(t) => t,
+        }
+    }
+}
+
+/// Warnings of the core (file readers, map binding) as notices.
+fn warnings(list: impl IntoIterator<Item = crate::Warning>) -> Vec<Notice> {
+    list.into_iter()
+        .map(|w| Notice::Warning(w.to_string()))
+        .collect()
+}
+
+/// A path for messages: relative to the current folder when it lies inside it.
+pub fn display_path(path: &Path) -> String {
+    if path.is_absolute()
+        && let Ok(cwd) = std::env::current_dir()
+        && let Ok(rel) = path.strip_prefix(&cwd)
+    {
+        return rel.display().to_string();
+    }
+    path.display().to_string()
+}
+
+/// "1 field", "2 fields".
+fn fields(n: usize) -> String {
+    format!("{n} field{}", if n == 1 { "" } else { "s" })
+}
+
+/// The scene the commands edit, and the numbering of the images it renders.
+pub struct Session {
+    volume: Option<Arc<Volume>>,
+    colormap: ColorMap,
+    alphamap: AlphaMap,
+    view: View,
+    /// Image size, method, grid lines, background, lights (the compositing order is chosen per
+    /// frame).
+    settings: Settings,
+    /// `output base.fmt`: the numbered images' base name and format.
+    output: PathBuf,
+    /// The number of the next image (the first is 1).
+    next_number: u32,
+    /// `legend on ?position?`: where the colour legend goes (none by default).
+    legend: Option<Place>,
+    /// `movie FILE`: while open, frames go to it instead of numbered images.
+    movie: Option<Movie>,
+    /// Files written, in order.
+    written: Vec<PathBuf>,
+}
+
+impl Default for Session {
+    fn default() -> Self {
+        Session::new()
+    }
+}
+
+impl Session {
+    /// The thesis's defaults (appendix A.1): no volume, red emission, absorption 2, the default
+    /// camera, 512 × 512, `test 0.5`, grid lines on, white background, `vorang.tiff`.
+    pub fn new() -> Session {
+        Session {
+            volume: None,
+            colormap: ColorMap::default_map(),
+            alphamap: AlphaMap::default_map(),
+            view: View::default(),
+            settings: Settings::default(),
+            output: PathBuf::from("vorang.tiff"),
+            next_number: 1,
+            legend: None,
+            movie: None,
+            written: Vec::new(),
+        }
+    }
+
+    pub fn volume(&self) -> Option<&Arc<Volume>> {
+        self.volume.as_ref()
+    }
+    pub fn colormap(&self) -> &ColorMap {
+        &self.colormap
+    }
+    pub fn alphamap(&self) -> &AlphaMap {
+        &self.alphamap
+    }
+    pub fn view(&self) -> &View {
+        &self.view
+    }
+    pub fn settings(&self) -> &Settings {
+        &self.settings
+    }
+    pub fn output(&self) -> &Path {
+        &self.output
+    }
+    pub fn next_number(&self) -> u32 {
+        self.next_number
+    }
+    pub fn legend(&self) -> Option<Place> {
+        self.legend
+    }
+    /// The open movie's file, if one is open.
+    pub fn movie(&self) -> Option<&Path> {
+        self.movie.as_ref().map(|m| m.path.as_path())
+    }
+    /// Files written by frames, saves and closed movies, in order.
+    pub fn written(&self) -> &[PathBuf] {
+        &self.written
+    }
+
+    /// The volume, or the error of a command that needs one.
+    fn need_volume(&self, command: &str) -> Result<Arc<Volume>, String> {
+        self.volume
+            .clone()
+            .ok_or_else(|| format!("{command}: no volume loaded: use 'volume file' first"))
+    }
+
+    // --- data (thesis A.1 „Angaben zu den Daten“) ---
+
+    /// `volume FILE`: loads a grid with its data; maps, transforms and camera return to their
+    /// defaults (thesis A.1). On an error the previous volume stays. Returns the summary
+    /// ("N nodes, M tetrahedra, K fields").
+    pub fn load_volume(&mut self, path: &Path) -> Result<(String, Vec<Notice>), String> {
+        let (vol, w) = Volume::load(path).map_err(|e| e.to_string())?;
+        let summary = format!(
+            "{} nodes, {} tetrahedra, {}",
+            vol.mesh.node_count(),
+            vol.mesh.tet_count(),
+            fields(vol.data.fields.len())
+        );
+        self.set_volume(Arc::new(vol));
+        Ok((summary, warnings(w)))
+    }
+
+    /// A volume built elsewhere (Python's arrays, a PyVista grid), with the same resets as
+    /// [`Session::load_volume`].
+    pub fn set_volume(&mut self, vol: Arc<Volume>) {
+        self.volume = Some(vol);
+        self.colormap = ColorMap::default_map();
+        self.alphamap = AlphaMap::default_map();
+        self.view = View::default();
+    }
+
+    /// `data ?+? FILE`: the fields of a data-only file onto the grid: replacing all fields (and
+    /// resetting the maps) or, with `append`, adding them. On an error nothing changes.
+    pub fn load_data(
+        &mut self,
+        path: &Path,
+        append: bool,
+    ) -> Result<(String, Vec<Notice>), String> {
+        let vol = self.need_volume("data")?;
+        let (next, w) = crate::formats::load_data(&vol, path, append).map_err(|e| e.to_string())?;
+        let n = next.data.fields.len();
+        self.volume = Some(Arc::new(next));
+        if !append {
+            self.colormap = ColorMap::default_map();
+            self.alphamap = AlphaMap::default_map();
+        }
+        Ok((fields(n), warnings(w)))
+    }
+
+    /// `save_volume FILE ?binary|ascii? ?small?`: the volume in the format of the file's
+    /// extension; `opts` given explicitly (`explicit`) only apply to HyperMesh.
+    pub fn save_volume(
+        &self,
+        path: &Path,
+        opts: WriteOptions,
+        explicit: bool,
+    ) -> Result<Vec<Notice>, String> {
+        let vol = self
+            .volume
+            .as_ref()
+            .ok_or("save_volume: no volume loaded: use 'volume file' first")?;
+        let format = crate::formats::format_for_writing(path);
+        if format.name != "HyperMesh" && explicit {
+            return Err(format!(
+                "save_volume: binary/ascii/small choose the HyperMesh encoding; {} is written as {} (binary appended, zlib)",
+                path.display(),
+                format.name
+            ));
+        }
+        let w = crate::formats::save_volume(vol, path, opts).map_err(|e| e.to_string())?;
+        Ok(warnings(w))
+    }
+
+    /// `save_subset FILE FIELD ?binary|ascii?`: the cells where the Constant field is not zero.
+    pub fn save_subset(&self, path: &Path, field: usize, encoding: Encoding) -> Result<(), String> {
+        let vol = self
+            .volume
+            .as_ref()
+            .ok_or("save_subset: no volume loaded: use 'volume file' first")?;
+        hypermesh::save_subset(vol, path, field, encoding).map_err(|e| e.to_string())
+    }
+
+    // --- maps and display (thesis A.1 „Angaben zu Beleuchtung und Darstellung“) ---
+
+    /// Binds the maps now if a volume is loaded, so that a mismatch is reported at the command.
+    fn check_maps(&self, color: &ColorMap, alpha: &AlphaMap) -> Result<(), String> {
+        if let Some(vol) = &self.volume {
+            Mapping::new(color, alpha, vol).map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+
+    /// `colormap`: the colour mapping (checked against the volume, if one is loaded).
+    pub fn set_colormap(&mut self, map: ColorMap) -> Result<(), String> {
+        self.check_maps(&map, &self.alphamap)?;
+        self.colormap = map;
+        Ok(())
+    }
+
+    /// `alphamap`: the alpha mapping (checked against the volume, if one is loaded).
+    pub fn set_alphamap(&mut self, map: AlphaMap) -> Result<(), String> {
+        self.check_maps(&self.colormap, &map)?;
+        self.alphamap = map;
+        Ok(())
+    }
+
+    /// `linedraw`: which grid edges are drawn (a field's values are checked against the volume).
+    pub fn set_lines(&mut self, lines: LineDraw) -> Result<(), String> {
+        if let (Some(vol), LineDraw::Cells { .. }) = (&self.volume, &lines) {
+            crate::render::lines::edges(vol, &lines).map_err(|e| e.to_string())?;
+        }
+        self.settings.lines = lines;
+        Ok(())
+    }
+
+    /// `legend on ?place?` (`Some`) or `legend off` (`None`).
+    pub fn set_legend(&mut self, place: Option<Place>) {
+        self.legend = place;
+    }
+
+    /// `addlight r g b dx dy dz`: returns the light's number (1, 2, …).
+    pub fn add_light(&mut self, light: Light) -> Result<usize, String> {
+        if light.direction == [0.0; 3] {
+            return Err("addlight: the direction must not be zero".into());
+        }
+        self.settings.lights.push(light);
+        Ok(self.settings.lights.len())
+    }
+
+    /// `removelight n` (1 = the first added).
+    pub fn remove_light(&mut self, n: usize) -> Result<(), String> {
+        if n == 0 || n > self.settings.lights.len() {
+            return Err(format!(
+                "removelight: there is no light {n} ({} added)",
+                self.settings.lights.len()
+            ));
+        }
+        self.settings.lights.remove(n - 1);
+        Ok(())
+    }
+
+    // --- camera and transforms (thesis A.1; docs/camera.md) ---
+
+    /// `persp_camera` / `ortho_camera`.
+    pub fn set_camera(&mut self, camera: Camera) -> Result<(), String> {
+        camera.validate()?;
+        self.view.camera = Some(camera);
+        Ok(())
+    }
+
+    /// `view_all`: a camera of the current kind that frames the transformed volume.
+    pub fn view_all(&mut self) -> Result<(), String> {
+        let vol = self
+            .volume
+            .clone()
+            .ok_or("view_all: no volume loaded (use 'volume FILE' first)")?;
+        let bbox = vol.mesh.bbox();
+        self.view.fit(
+            vol.mesh.nodes(),
+            bbox.center(),
+            self.settings.width,
+            self.settings.height,
+        )
+    }
+
+    /// `vol_scale`, `vol_translate`, `vol_rotate`: one more transform after those so far.
+    pub fn transform(&mut self, op: TransformOp) -> Result<(), String> {
+        match op {
+            TransformOp::Scale(v) if v.contains(&0.0) => {
+                Err("vol_scale: a scale factor of 0 would flatten the volume".into())
+            }
+            TransformOp::Rotate { axis, .. } if axis == [0.0; 3] => {
+                Err("vol_rotate: the rotation axis must not be zero".into())
+            }
+            op => {
+                self.view.transforms.push(op);
+                Ok(())
+            }
+        }
+    }
+
+    /// `look_at`: eye, reference point and up direction.
+    pub fn set_look_at(&mut self, look_at: LookAt) {
+        self.view.look_at = look_at;
+    }
+
+    /// The whole view at once (the viewer hands back where the user left it).
+    pub fn set_view(&mut self, view: View) {
+        self.view = view;
+    }
+
+    // --- method and image (thesis A.1 „Berechnungsmethoden“, „Bildangaben“) ---
+
+    /// `method`.
+    pub fn set_method(&mut self, method: Method) {
+        self.settings.method = method;
+    }
+
+    /// `imagesize width height`.
+    pub fn set_image_size(&mut self, width: usize, height: usize) -> Result<(), String> {
+        crate::render::check_size(width, height).map_err(|e| format!("imagesize: {e}"))?;
+        self.settings.width = width;
+        self.settings.height = height;
+        Ok(())
+    }
+
+    /// `background`: uniform white (default), none (transparent), a colour or an image.
+    pub fn set_background(&mut self, background: Background) -> Result<(), String> {
+        if let Background::Color(rgb) = &background
+            && rgb.iter().any(|v| *v < 0.0)
+        {
+            return Err("background: colour components must be ≥ 0".into());
+        }
+        self.settings.background = background;
+        Ok(())
+    }
+
+    /// `background FILE`: an image under the volume.
+    pub fn load_background(&mut self, path: &Path) -> Result<(), String> {
+        let img = BackgroundImage::load(path).map_err(|e| e.to_string())?;
+        self.settings.background = Background::Image(Arc::new(img));
+        Ok(())
+    }
+
+    /// `output base.fmt`. A new base name starts a new series at 1; the same base again, also in
+    /// another format, keeps counting.
+    pub fn set_output(&mut self, path: PathBuf) -> Result<(), String> {
+        format_for(&path).map_err(|e| e.to_string())?;
+        if path.with_extension("") != self.output.with_extension("") {
+            self.next_number = 1;
+        }
+        self.output = path;
+        Ok(())
+    }
+
+    /// `set_nr n`: the number the next image gets.
+    pub fn set_number(&mut self, n: usize) -> Result<(), String> {
+        // The largest number leaves room for the count-up after the render.
+        self.next_number = u32::try_from(n)
+            .ok()
+            .filter(|&n| n < u32::MAX)
+            .ok_or_else(|| format!("set_nr: {n} is too large (at most {})", u32::MAX - 1))?;
+        Ok(())
+    }
+
+    /// `movie FILE ?fps?`: the following frames go to an animation. An open movie is closed
+    /// first (its note is returned).
+    pub fn open_movie(&mut self, path: &Path, fps: f64) -> Result<Vec<Notice>, String> {
+        MovieFormat::for_path(path).map_err(|e| format!("movie: {e}"))?;
+        let mut notes = Vec::new();
+        if let Some((_, note)) = self.close_movie()? {
+            notes.push(note);
+        }
+        self.movie = Some(Movie::open(path, fps).map_err(|e| format!("movie: {e}"))?);
+        Ok(notes)
+    }
+
+    /// `movie close` (also a new `movie` and the session's end): writes the open movie, if any;
+    /// the note names the file and its frames.
+    pub fn close_movie(&mut self) -> Result<Option<(PathBuf, Notice)>, String> {
+        let Some(movie) = self.movie.take() else {
+            return Ok(None);
+        };
+        let frames = movie.frames();
+        let fps = movie.fps;
+        let path = movie.finish().map_err(|e| e.to_string())?;
+        let msg = format!(
+            "{}  {frames} frame{} at {fps} fps",
+            display_path(&path),
+            if frames == 1 { "" } else { "s" }
+        );
+        self.written.push(path.clone());
+        Ok(Some((path, Notice::Note(msg))))
+    }
+
+    /// Writes `fb` as the next numbered image, as a frame would (the viewer's `s`).
+    pub fn save_numbered(
+        &mut self,
+        fb: &crate::framebuffer::Framebuffer,
+    ) -> Result<Notice, String> {
+        if self.next_number == u32::MAX {
+            return Err("the image numbers are used up: use 'set_nr' to start again".into());
+        }
+        let path = crate::framebuffer::numbered(&self.output, self.next_number);
+        format_for(&path).map_err(|e| e.to_string())?;
+        crate::framebuffer::write_image(fb, &path).map_err(|e| e.to_string())?;
+        self.next_number += 1;
+        let note = Notice::Note(format!(
+            "{}  {}×{}  saved from the viewer",
+            display_path(&path),
+            fb.width,
+            fb.height
+        ));
+        self.written.push(path);
+        Ok(note)
+    }
+}
