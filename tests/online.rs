@@ -34,6 +34,7 @@ fn the_online_window_shows_the_written_pixels_and_is_reused() {
     let script = format!(
         "{}output shot.png
 imagesize 200 150
+view_all
 after 0 {{set ticked 1}}
 render_btf online
 puts \"events during the render: [info exists ticked]\"
@@ -90,7 +91,7 @@ puts \"same [expr {{$id eq [winfo id .vorang]}}] windows [winfo children .]\"
 fn without_a_display_online_warns_once_and_writes_the_files() {
     let dir = tempfile::tempdir().unwrap();
     let script = format!(
-        "{}output out.png\nimagesize 40 30\nrender_btf online\nrender_ftb online\n",
+        "{}output out.png\nimagesize 40 30\nview_all\nrender_btf online\nrender_ftb online\n",
         scene()
     );
     std::fs::write(dir.path().join("nodisplay.tcl"), script).unwrap();
@@ -166,7 +167,7 @@ fn online_without_tk_main_window_warns_and_writes_the_file() {
     let Some(x) = Xvfb::start() else { return };
     let dir = tempfile::tempdir().unwrap();
     let script = format!(
-        "{}output out.png\nimagesize 40 30\nrender_btf online\ndestroy .\nrender_btf online\nputs done\n",
+        "{}output out.png\nimagesize 40 30\nview_all\nrender_btf online\ndestroy .\nrender_btf online\nputs done\n",
         scene()
     );
     std::fs::write(dir.path().join("destroyed.tcl"), script).unwrap();

@@ -281,3 +281,45 @@ fn png_alpha_shows_the_picture_and_is_transparent_only_on_request() {
         }
     }
 }
+
+/// `set_nr` sets the number of the next image (thesis A.1), also when `output` follows it; a
+/// new base name without a `set_nr` since the last image starts at 1, and the same base keeps
+/// counting.
+#[test]
+fn set_nr_before_output_holds_until_the_next_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let cube = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/formats/cube.hmesh");
+    let script = format!(
+        "volume {{{}}}\nimagesize 8 8\nlinedraw off\n\
+         set_nr 500\noutput out/base.pfm\nrender_btf\n\
+         output out/base.pfm\nrender_btf\n\
+         output out/other.pfm\nrender_btf\n\
+         set_nr 7\noutput out/third.pfm\noutput out/fourth.pfm\nrender_btf\n",
+        cube.display()
+    );
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_vorang"))
+        .arg("-e")
+        .arg(script)
+        .current_dir(dir.path())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let mut files: Vec<String> = std::fs::read_dir(dir.path().join("out"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    files.sort();
+    assert_eq!(
+        files,
+        [
+            "base.0500.pfm",
+            "base.0501.pfm",
+            "fourth.0007.pfm",
+            "other.0001.pfm"
+        ]
+    );
+}

@@ -195,7 +195,8 @@ fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {
 /// such as `abs(2)`) over its range `[lo, hi]` (issue 16):
 /// the viridis preset over the range and an absorption ramp up to χ = 4 / the bounding box's
 /// diagonal (the densest part then lets through about e^-4 of the light across the volume),
-/// with the brightness factor χ_max, so that opaque parts show the preset's colours. `None`
+/// with the brightness factor χ_max, so that opaque parts show the preset's colours, and no grid
+/// lines (the script's default draws every edge, which hides the volume of a large mesh). `None`
 /// for a constant field.
 pub fn first_picture(vol: &Volume, i: &str, lo: f64, hi: f64) -> Option<String> {
     // Short numbers where they stay distinct, exact ones otherwise.
@@ -211,7 +212,7 @@ pub fn first_picture(vol: &Volume, i: &str, lo: f64, hi: f64) -> Option<String> 
     }
     let chi = num(4.0 / diagonal);
     Some(format!(
-        "colormap preset viridis {a} {b} {i}; alphamap ramp {a} {b} {chi} {i}; method interpolateColor {chi}"
+        "colormap preset viridis {a} {b} {i}; alphamap ramp {a} {b} {chi} {i}; method interpolateColor {chi}; linedraw off"
     ))
 }
 

@@ -90,7 +90,7 @@ impl Session {
     /// Binds the maps to the volume and checks where the image will go (`to_file`: a numbered
     /// file or the open movie; otherwise the image is only returned).
     pub fn prepare(
-        &self,
+        &mut self,
         command: &'static str,
         order: Order,
         to_file: bool,
@@ -113,6 +113,8 @@ impl Session {
             format_for(&p).map_err(|e| e.to_string())?;
             path = Some(p);
         }
+        let mut notices = warnings(w);
+        notices.extend(self.default_notices(command));
         // Count only this render's clamped emission (IDENTITY).
         for l in &self.colormap.lines {
             l.method.take_clamped();
@@ -127,8 +129,46 @@ impl Session {
                 ..self.settings.clone()
             },
             path,
-            notices: warnings(w),
+            notices,
         })
+    }
+
+    /// Warnings about defaults that silently defeat what the user asked for: maps set while
+    /// the method is still the default `test` (which ignores them), and the default camera
+    /// stretching the volume to an image of another aspect ratio (once per session).
+    fn default_notices(&mut self, command: &str) -> Vec<Notice> {
+        let mut notices = Vec::new();
+        if !self.method_set
+            && matches!(self.settings.method, crate::render::Method::Test(_))
+            && (self.colormap_set || self.alphamap_set)
+        {
+            notices.push(Notice::Warning(format!(
+                "{command}: the method is still the default 'test', which ignores the colormap and alphamap; the methods exact, interpolateCoeff and interpolateColor use them (e.g. 'method exact linear 0')"
+            )));
+        }
+        if let Some(stretch) = self.default_camera_stretch()
+            && !self.aspect_hinted
+            && (stretch - 1.0).abs() > 0.01
+        {
+            self.aspect_hinted = true;
+            notices.push(Notice::Warning(format!(
+                "{command}: the default camera stretches the volume by {stretch:.3} (its x/y extent fills the {}×{} image, thesis A.1); 'view_all' frames it undistorted",
+                self.settings.width, self.settings.height
+            )));
+        }
+        notices
+    }
+
+    /// With no camera set: how much the default camera (the grid's x/y extent on the image)
+    /// stretches x against y; `None` with a camera or a flat extent.
+    fn default_camera_stretch(&self) -> Option<f64> {
+        if self.view.camera.is_some() {
+            return None;
+        }
+        let size = self.volume.as_ref()?.mesh.bbox().size();
+        let (w, h) = (self.settings.width as f64, self.settings.height as f64);
+        let stretch = (w / h) / (size[0] / size[1]);
+        (stretch.is_finite() && stretch > 0.0).then_some(stretch)
     }
 
     /// The rendered image with its legend and the warnings about it: clamped emission, a legend
@@ -212,12 +252,14 @@ impl Session {
         let (shown, written) = match (&mut self.movie, prepared.path) {
             (Some(movie), _) => {
                 movie.add(&fb).map_err(|e| format!("{command}: {e}"))?;
+                self.number_set = false;
                 let shown = format!("{} frame {}", display_path(&movie.path), movie.frames());
                 (shown, movie.path.clone())
             }
             (None, Some(path)) => {
                 write_image(&fb, &path).map_err(|e| e.to_string())?;
                 self.next_number += 1;
+                self.number_set = false;
                 self.written.push(path.clone());
                 (display_path(&path), path)
             }
@@ -250,7 +292,7 @@ impl Session {
 
     /// Renders the scene into an image without writing it (Python's `render`): every warning
     /// the frame would give, in [`Image::notices`].
-    pub fn render_image(&self, order: Order, hooks: &Hooks) -> Result<Image, String> {
+    pub fn render_image(&mut self, order: Order, hooks: &Hooks) -> Result<Image, String> {
         let mut prepared = self.prepare("render", order, false)?;
         let started = Instant::now();
         let result = prepared.render(hooks);

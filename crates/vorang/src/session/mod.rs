@@ -66,6 +66,15 @@ pub fn display_path(path: &Path) -> String {
     path.display().to_string()
 }
 
+/// "a", "a and b", "a, b and c".
+fn and_list(items: &[&str]) -> String {
+    match items {
+        [] => String::new(),
+        [one] => one.to_string(),
+        [head @ .., last] => format!("{} and {last}", head.join(", ")),
+    }
+}
+
 /// "1 field", "2 fields".
 fn fields(n: usize) -> String {
     format!("{n} field{}", if n == 1 { "" } else { "s" })
@@ -90,6 +99,15 @@ pub struct Session {
     movie: Option<Movie>,
     /// Files written, in order.
     written: Vec<PathBuf>,
+    /// What the user set since the scene began, for the warnings about defaults that would
+    /// silently defeat it: `set_nr` since the last image, the maps and the method since the
+    /// last `volume`.
+    number_set: bool,
+    colormap_set: bool,
+    alphamap_set: bool,
+    method_set: bool,
+    /// The default camera's distortion is pointed out once per session.
+    aspect_hinted: bool,
 }
 
 impl Default for Session {
@@ -113,6 +131,11 @@ impl Session {
             legend: None,
             movie: None,
             written: Vec::new(),
+            number_set: false,
+            colormap_set: false,
+            alphamap_set: false,
+            method_set: false,
+            aspect_hinted: false,
         }
     }
 
@@ -169,17 +192,44 @@ impl Session {
             vol.mesh.tet_count(),
             fields(vol.data.fields.len())
         );
-        self.set_volume(Arc::new(vol));
-        Ok((summary, warnings(w)))
+        let mut notices = warnings(w);
+        notices.extend(self.set_volume(Arc::new(vol)));
+        Ok((summary, notices))
     }
 
     /// A volume built elsewhere (Python's arrays, a PyVista grid), with the same resets as
-    /// [`Session::load_volume`].
-    pub fn set_volume(&mut self, vol: Arc<Volume>) {
+    /// [`Session::load_volume`]: a warning names the maps and camera set before that the new
+    /// volume dropped (a thesis-era script sets them after `volume`; one that sets them before
+    /// would silently lose them).
+    pub fn set_volume(&mut self, vol: Arc<Volume>) -> Option<Notice> {
+        let mut dropped = Vec::new();
+        if self.colormap_set {
+            dropped.push("colormap");
+        }
+        if self.alphamap_set {
+            dropped.push("alphamap");
+        }
+        if self.view.camera.is_some() {
+            dropped.push("camera");
+        }
+        if !self.view.transforms.is_empty() {
+            dropped.push("vol_* transforms");
+        }
+        if self.view.look_at != View::default().look_at {
+            dropped.push("look_at");
+        }
         self.volume = Some(vol);
         self.colormap = ColorMap::default_map();
         self.alphamap = AlphaMap::default_map();
         self.view = View::default();
+        self.colormap_set = false;
+        self.alphamap_set = false;
+        (!dropped.is_empty()).then(|| {
+            Notice::Warning(format!(
+                "volume: a new volume resets the {} set before it to the defaults (thesis A.1): set them after 'volume'",
+                and_list(&dropped)
+            ))
+        })
     }
 
     /// `data ?+? FILE`: the fields of a data-only file onto the grid: replacing all fields (and
@@ -247,6 +297,7 @@ impl Session {
     pub fn set_colormap(&mut self, map: ColorMap) -> Result<(), String> {
         self.check_maps(&map, &self.alphamap)?;
         self.colormap = map;
+        self.colormap_set = true;
         Ok(())
     }
 
@@ -254,6 +305,7 @@ impl Session {
     pub fn set_alphamap(&mut self, map: AlphaMap) -> Result<(), String> {
         self.check_maps(&self.colormap, &map)?;
         self.alphamap = map;
+        self.alphamap_set = true;
         Ok(())
     }
 
@@ -347,6 +399,7 @@ impl Session {
     /// `method`.
     pub fn set_method(&mut self, method: Method) {
         self.settings.method = method;
+        self.method_set = true;
     }
 
     /// `imagesize width height`.
@@ -376,10 +429,11 @@ impl Session {
     }
 
     /// `output base.fmt`. A new base name starts a new series at 1; the same base again, also in
-    /// another format, keeps counting.
+    /// another format, keeps counting. A `set_nr` since the last image holds whatever `output`
+    /// says (thesis A.1: `set_nr` sets the number of the next image).
     pub fn set_output(&mut self, path: PathBuf) -> Result<(), String> {
         format_for(&path).map_err(|e| e.to_string())?;
-        if path.with_extension("") != self.output.with_extension("") {
+        if path.with_extension("") != self.output.with_extension("") && !self.number_set {
             self.next_number = 1;
         }
         self.output = path;
@@ -393,6 +447,7 @@ impl Session {
             .ok()
             .filter(|&n| n < u32::MAX)
             .ok_or_else(|| format!("set_nr: {n} is too large (at most {})", u32::MAX - 1))?;
+        self.number_set = true;
         Ok(())
     }
 
@@ -438,6 +493,7 @@ impl Session {
         format_for(&path).map_err(|e| e.to_string())?;
         crate::framebuffer::write_image(fb, &path).map_err(|e| e.to_string())?;
         self.next_number += 1;
+        self.number_set = false;
         let note = Notice::Note(format!(
             "{}  {}×{}  saved from the viewer",
             display_path(&path),
