@@ -85,8 +85,8 @@ def test_identity_clamp_warning_is_the_clis(tmp_path):
 def test_overlap_warning_is_the_clis(tmp_path):
     mesh = tmp_path / "overlap.vtk"
     mesh.write_text(OVERLAP_VTK)
-    expected = cli_warnings(tmp_path, mesh, ["imagesize 24 24", "linedraw off", "method exact linear 0"])
-    got = python_warnings(mesh, size=(24, 24), linedraw="off", method="exact linear 0")
+    expected = cli_warnings(tmp_path, mesh, ["imagesize 24 24", "linedraw off", "method exact linear 0 1"])
+    got = python_warnings(mesh, size=(24, 24), linedraw="off", method="exact linear 0 1")
     assert any("overlap" in w for w in expected), expected
     assert got == expected
 
