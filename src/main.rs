@@ -430,7 +430,15 @@ fn view(runner: &Runner, command: &Command) -> Result<(), String> {
     context
         .session
         .set_lines(if *lines { LineDraw::All } else { LineDraw::Off })?;
-    vorang_tcl::display::viewer::run(&mut context, runner.interp()).map(|_| ())
+    let context = &mut *context;
+    let tk = context.display.need_tk(runner.interp())?;
+    vorang_tcl::display::viewer::run(
+        &mut context.session,
+        context.reporter.as_mut(),
+        tk,
+        runner.interp(),
+    )
+    .map(|_| ())
 }
 
 /// `vorang -e 'help method'` and `echo 'help method' | vorang` print the help: the result of

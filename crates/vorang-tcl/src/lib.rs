@@ -2,7 +2,8 @@
 //!
 //! The thesis's script language (thesis 4.2 and appendix A) is real Tcl 8.6 extended by the
 //! VoRANG commands ([`script`]); its windows — the `online` display and the interactive viewer —
-//! are Tk ([`display`]). Everything here is a thin caller of the core library `vorang`: the
+//! are Tk ([`display`]), over the bindings of the Tcl and Tk C libraries ([`tcl`], [`tk`]).
+//! Modules import downwards only: `script` → `display` → `tcl`, `tk`, `report`. Everything here is a thin caller of the core library `vorang`: the
 //! commands parse their words and call the session's setters, the windows show what the session
 //! renders. This crate is the only one that links libtcl.
 
@@ -11,4 +12,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod display;
+pub mod report;
 pub mod script;
+pub mod tcl;
+pub mod tk;

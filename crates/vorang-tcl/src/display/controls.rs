@@ -2,7 +2,7 @@
 //! do to the method (1–4 choose it, + and − its brightness).
 
 use super::orbit::{Orbit, ZOOM_STEP};
-use crate::script::tcl::Interp;
+use crate::tcl::Interp;
 use vorang::render::Method;
 use vorang::render::approx::{Exact, InterpolateCoeff, InterpolateColor, Test};
 

@@ -16,8 +16,8 @@ mod window;
 
 pub use window::Window;
 
-use crate::script::tcl::Interp;
-use crate::script::tk::Tk;
+use crate::tcl::Interp;
+use crate::tk::Tk;
 use vorang::framebuffer::{output_pixel, to_u8};
 
 /// Tk for one session, loaded on first use.
@@ -37,6 +37,18 @@ impl Display {
             Err(message) if first => Err(Some(message.clone())),
             Err(_) => Err(None),
         }
+    }
+
+    /// Tk for a window that cannot go without one (the viewer): without it an error that says
+    /// why.
+    pub fn need_tk(&mut self, interp: &Interp) -> Result<Tk, String> {
+        self.tk(interp).copied().map_err(|why| {
+            format!(
+                "view: no window can be opened{}",
+                why.map(|w| format!(" ({})", w.lines().next().unwrap_or_default()))
+                    .unwrap_or_default()
+            )
+        })
     }
 }
 

@@ -19,14 +19,15 @@ use super::frames::{self, Done, Job, Tile};
 use super::legend::{self, Legend};
 use super::orbit::Orbit;
 use super::rgba8;
-use crate::script::Context;
-use crate::script::tcl::Interp;
-use crate::script::tk::Tk;
+use crate::report::Reporter;
+use crate::tcl::Interp;
+use crate::tk::Tk;
 use vorang::framebuffer::Framebuffer;
 use vorang::mapping::Mapping;
 use vorang::render::approx::InterpolateColor;
 use vorang::render::{CANCELLED, Method, Order, Settings};
-use vorang::session::method_command;
+use vorang::session::{Notice, Session, method_command};
+use vorang::volume::Volume;
 
 /// How long the view must stay still before the chosen method refines the preview.
 pub const SETTLE: Duration = Duration::from_millis(150);
@@ -105,35 +106,9 @@ fn show(tk: &Tk, interp: &Interp, (width, height): (usize, usize), rgba: &[u8]) 
     let _ = tk.put(interp, PHOTO, (0, 0), (width, height), rgba);
 }
 
-/// Runs the viewer on the session's scene until the user quits (`q`, or closing the window).
-/// The session keeps the final view and method, so a render after `view` shows what the
-/// viewer showed.
-pub fn run(s: &mut Context, interp: &Interp) -> Result<String, String> {
-    let vol = s
-        .session
-        .volume()
-        .cloned()
-        .ok_or("view: no volume loaded: use 'volume file' first")?;
-    let (mapping, warnings) = Mapping::new(s.session.colormap(), s.session.alphamap(), &vol)
-        .map_err(|e| e.to_string())?;
-    for w in warnings {
-        s.reporter.warn(&w.to_string());
-    }
-    let tk = match s.display.tk(interp) {
-        Ok(tk) => *tk,
-        Err(why) => {
-            return Err(format!(
-                "view: no window can be opened{}",
-                why.map(|w| format!(" ({})", w.lines().next().unwrap_or_default()))
-                    .unwrap_or_default()
-            ));
-        }
-    };
-    let (width, height) = (s.session.settings().width, s.session.settings().height);
-    let mut orbit = Orbit::new(s.session.view(), &vol, width, height)?;
-    let mut method = s.session.settings().method;
-    open_window(interp, width, height).map_err(|e| format!("view: {e}"))?;
-    match legend::legend(&mapping, &vol, width) {
+/// The window's legend strip and range line: the maps as a function of one scalar, if they are.
+fn show_legend(tk: &Tk, interp: &Interp, mapping: &Mapping, vol: &Volume, width: usize) {
+    match legend::legend(mapping, vol, width) {
         Some(Legend {
             rgba,
             min,
@@ -155,8 +130,31 @@ pub fn run(s: &mut Context, interp: &Interp) -> Result<String, String> {
             let _ = interp.eval(&format!("pack forget {TOPLEVEL}.legend"));
         }
     }
-    let factor = preview_factor(width, height);
-    let cells = vol.mesh.tet_count();
+}
+
+/// Runs the viewer on the session's scene until the user quits (`q`, or closing the window).
+/// The session keeps the final view and method, so a render after `view` shows what the
+/// viewer showed.
+pub fn run(
+    session: &mut Session,
+    reporter: &mut dyn Reporter,
+    tk: Tk,
+    interp: &Interp,
+) -> Result<String, String> {
+    let vol = session
+        .volume()
+        .cloned()
+        .ok_or("view: no volume loaded: use 'volume file' first")?;
+    let (mapping, warnings) =
+        Mapping::new(session.colormap(), session.alphamap(), &vol).map_err(|e| e.to_string())?;
+    for w in warnings {
+        reporter.warn(&w.to_string());
+    }
+    let (width, height) = (session.settings().width, session.settings().height);
+    let orbit = Orbit::new(session.view(), &vol, width, height)?;
+    let method = session.settings().method;
+    open_window(interp, width, height).map_err(|e| format!("view: {e}"))?;
+    show_legend(&tk, interp, &mapping, &vol, width);
 
     let (job_send, job_receive) = mpsc::channel::<Job>();
     let (done_send, done_receive) = mpsc::channel::<Done>();
@@ -166,186 +164,296 @@ pub fn run(s: &mut Context, interp: &Interp) -> Result<String, String> {
     std::thread::scope(|scope| {
         let (vol, mapping) = (&vol, &mapping);
         scope.spawn(move || frames::render(vol, mapping, job_receive, done_send, tile_send));
-
-        let mut generation = 0u64;
-        let mut changed_at = Instant::now();
-        // The job being rendered: its generation, kind and cancel flag.
-        let mut in_flight: Option<(u64, bool, Arc<AtomicBool>)> = None;
-        let mut shown: Option<(u64, bool)> = None;
-        let mut refined: Option<(u64, Framebuffer)> = None;
-        let mut controls = Controls::default();
-        let (mut save, mut quit) = (false, false);
-        let (mut preview_ms, mut refined_ms) = (f64::NAN, f64::NAN);
-        let mut error: Option<String> = None;
-        // Frame times in seconds (previews, refined), for the VORANG_TIMING summary.
-        let mut times: (Vec<f64>, Vec<f64>) = (Vec::new(), Vec::new());
+        let mut viewer = Viewer {
+            session,
+            reporter,
+            tk,
+            interp,
+            size: (width, height),
+            factor: preview_factor(width, height),
+            cells: vol.mesh.tet_count(),
+            orbit,
+            method,
+            generation: 0,
+            changed_at: Instant::now(),
+            in_flight: None,
+            shown: None,
+            refined: None,
+            controls: Controls::default(),
+            save: false,
+            quit: false,
+            preview_ms: f64::NAN,
+            refined_ms: f64::NAN,
+            error: None,
+            times: (Vec::new(), Vec::new()),
+        };
         let result = loop {
-            interp.eval("update").ok();
-            if interp
-                .eval(&format!("winfo exists {TOPLEVEL}"))
-                .is_ok_and(|v| v != "1")
-            {
-                quit = true;
-                save = false;
-            }
-            let events = interp
-                .eval(&format!("set e ${EVENTS}; set {EVENTS} {{}}; set e"))
-                .unwrap_or_default();
-            let mut moved = false;
-            for e in interp.split_list(&events).unwrap_or_default() {
-                let Some(input) = parse_event(interp, &e) else {
-                    continue;
-                };
-                match controls.apply(input, &mut orbit, &mut method) {
-                    Action::None => {}
-                    Action::Moved => moved = true,
-                    Action::Save => save = true,
-                    Action::Print => {
-                        // The session prints itself, holding the viewer's view and method.
-                        s.session.set_view(orbit.view());
-                        s.session.set_method(method);
-                        let lines = s.session.script();
-                        s.reporter.info(&format!(
-                            "# view: the commands for this image (after loading the volume and maps)\n{}",
-                            lines.join("\n")
-                        ));
-                    }
-                    Action::Quit => quit = true,
-                }
-            }
-            if moved {
-                // A new view may well render where the last one failed (e.g. a method's step).
-                error = None;
-                generation += 1;
-                changed_at = Instant::now();
-                if let Some((_, true, cancel)) = &in_flight {
-                    cancel.store(true, Ordering::Relaxed);
-                }
-            }
-            while let Ok((g, rect, rgba)) = tile_receive.try_recv() {
-                if g == generation && shown != Some((g, true)) {
-                    let size = (rect.x1 - rect.x0, rect.y1 - rect.y0);
-                    let _ = tk.put(interp, PHOTO, (rect.x0, rect.y0), size, &rgba);
-                }
-            }
-            while let Ok(done) = done_receive.try_recv() {
-                if in_flight
-                    .as_ref()
-                    .is_some_and(|f| (f.0, f.1) == (done.generation, done.refined))
-                {
-                    in_flight = None;
-                }
-                let fb = match done.frame {
-                    Ok(fb) => fb,
-                    Err(e) if e == CANCELLED => continue,
-                    Err(e) => {
-                        error = Some(e);
-                        continue;
-                    }
-                };
-                if done.refined && done.generation != generation {
-                    continue;
-                }
-                let rgba = rgba8(&fb.pixels, fb.transparent);
-                if done.refined {
-                    show(&tk, interp, (width, height), &rgba);
-                    refined_ms = done.seconds * 1e3;
-                    times.1.push(done.seconds);
-                    refined = Some((done.generation, fb));
-                } else {
-                    let big = enlarge(&rgba, fb.width, fb.height, width, height);
-                    show(&tk, interp, (width, height), &big);
-                    preview_ms = done.seconds * 1e3;
-                    times.0.push(done.seconds);
-                }
-                shown = Some((done.generation, done.refined));
-                error = None;
-            }
-            if let Some((_, fb)) = refined.as_ref().filter(|(g, _)| save && *g == generation) {
-                save = false;
-                match s.session.save_numbered(fb) {
-                    Ok(note) => s.report([note]),
-                    Err(e) => s.reporter.warn(&format!("view: {e}")),
-                }
-            }
+            viewer.poll_events();
+            viewer.show_tiles(&tile_receive);
+            viewer.receive_frames(&done_receive);
+            viewer.save_if_asked();
             // A save waits for the refined frame, unless that cannot be rendered.
-            if quit && (!save || error.is_some()) {
+            if viewer.quit && (!viewer.save || viewer.error.is_some()) {
                 break Ok(String::new());
             }
-            if in_flight.is_none() && error.is_none() {
-                let refine = matches!(shown, Some((g, false)) if g == generation)
-                    && changed_at.elapsed() >= SETTLE;
-                let preview = shown.is_none_or(|(g, _)| g != generation);
-                if preview || refine {
-                    let mut settings = Settings {
-                        method,
-                        order: Order::BackToFront,
-                        ..s.session.settings().clone()
-                    };
-                    if preview {
-                        settings.method = Method::InterpolateColor(InterpolateColor {
-                            brightness: controls::brightness(&method),
-                        });
-                        settings.width = width.div_ceil(factor);
-                        settings.height = height.div_ceil(factor);
-                    }
-                    let cancel = Arc::new(AtomicBool::new(false));
-                    in_flight = Some((generation, refine, Arc::clone(&cancel)));
-                    let job = Job {
-                        generation,
-                        refined: refine,
-                        view: orbit.view(),
-                        settings,
-                        cancel,
-                    };
-                    if job_send.send(job).is_err() {
-                        break Err("view: the render thread stopped".to_string());
-                    }
-                }
+            if let Err(e) = viewer.schedule(&job_send) {
+                break Err(e);
             }
-            let ms = |v: f64| {
-                if v.is_nan() {
-                    "–".to_string()
-                } else {
-                    format!("{v:.0} ms")
-                }
-            };
-            let state = match (&error, shown) {
-                (Some(e), _) => format!("error: {e}"),
-                (None, Some((g, true))) if g == generation => "refined".to_string(),
-                _ => "preview".to_string(),
-            };
-            interp.set_var(
-                "::vorang::view_status",
-                &format!(
-                    "{}  ·  {cells} cells  ·  {state}  ·  preview {} (1/{factor} size), refined {}\ndrag: turn · shift-drag: pan · wheel: zoom · 1–4 method · +/− brightness · r reset · s save · p print · q quit",
-                    method_command(&method).trim_start_matches("method "),
-                    ms(preview_ms),
-                    ms(refined_ms)
-                ),
-            );
+            viewer.show_status();
             std::thread::sleep(POLL);
         };
-        if let Some((_, _, cancel)) = &in_flight {
+        if let Some((_, _, cancel)) = &viewer.in_flight {
             cancel.store(true, Ordering::Relaxed);
         }
         drop(job_send);
-        let _ = interp.eval(&format!("catch {{destroy {TOPLEVEL}}}; update"));
-        if std::env::var_os("VORANG_TIMING").is_some() {
-            let (pw, ph) = (width.div_ceil(factor), height.div_ceil(factor));
-            s.reporter.info(&format!(
-                "view: {} previews {pw}×{ph} interpolateColor: {}; {} refined {width}×{height} {}: {}",
-                times.0.len(),
-                summary(&mut times.0),
-                times.1.len(),
-                method_command(&method).trim_start_matches("method "),
-                summary(&mut times.1)
-            ));
-        }
-        s.session.set_view(orbit.view());
-        s.session.set_method(method);
+        viewer.close();
         result
     })
+}
+
+/// The viewer's state between polls: the view the mouse made, what is being rendered and
+/// what the window shows.
+struct Viewer<'a> {
+    session: &'a mut Session,
+    reporter: &'a mut dyn Reporter,
+    tk: Tk,
+    interp: &'a Interp,
+    size: (usize, usize),
+    /// The preview's reduction.
+    factor: usize,
+    cells: usize,
+    orbit: Orbit,
+    method: Method,
+    /// Counts the view's changes; a frame of an older generation is stale.
+    generation: u64,
+    changed_at: Instant,
+    /// The job being rendered: its generation, whether refined, its cancel flag.
+    in_flight: Option<(u64, bool, Arc<AtomicBool>)>,
+    /// The generation and kind of the frame on the screen.
+    shown: Option<(u64, bool)>,
+    /// The last refined frame, for `s`.
+    refined: Option<(u64, Framebuffer)>,
+    controls: Controls,
+    save: bool,
+    quit: bool,
+    preview_ms: f64,
+    refined_ms: f64,
+    error: Option<String>,
+    /// Frame times in seconds (previews, refined), for the VORANG_TIMING summary.
+    times: (Vec<f64>, Vec<f64>),
+}
+
+impl Viewer<'_> {
+    /// Tk's events since the last poll, applied to the view; a change cancels a stale
+    /// refinement.
+    fn poll_events(&mut self) {
+        let interp = self.interp;
+        interp.eval("update").ok();
+        if interp
+            .eval(&format!("winfo exists {TOPLEVEL}"))
+            .is_ok_and(|v| v != "1")
+        {
+            self.quit = true;
+            self.save = false;
+        }
+        let events = interp
+            .eval(&format!("set e ${EVENTS}; set {EVENTS} {{}}; set e"))
+            .unwrap_or_default();
+        let mut moved = false;
+        for e in interp.split_list(&events).unwrap_or_default() {
+            let Some(input) = parse_event(interp, &e) else {
+                continue;
+            };
+            match self
+                .controls
+                .apply(input, &mut self.orbit, &mut self.method)
+            {
+                Action::None => {}
+                Action::Moved => moved = true,
+                Action::Save => self.save = true,
+                Action::Print => self.print(),
+                Action::Quit => self.quit = true,
+            }
+        }
+        if moved {
+            // A new view may well render where the last one failed (e.g. a method's step).
+            self.error = None;
+            self.generation += 1;
+            self.changed_at = Instant::now();
+            if let Some((_, true, cancel)) = &self.in_flight {
+                cancel.store(true, Ordering::Relaxed);
+            }
+        }
+    }
+
+    /// `p`: the session, holding the viewer's view and method, prints itself as commands.
+    fn print(&mut self) {
+        self.session.set_view(self.orbit.view());
+        self.session.set_method(self.method);
+        let lines = self.session.script();
+        self.reporter.info(&format!(
+            "# view: the commands for this image (after loading the volume and maps)\n{}",
+            lines.join("\n")
+        ));
+    }
+
+    /// A refined frame's finished tiles, over the preview.
+    fn show_tiles(&mut self, tiles: &mpsc::Receiver<Tile>) {
+        while let Ok((g, rect, rgba)) = tiles.try_recv() {
+            if g == self.generation && self.shown != Some((g, true)) {
+                let size = (rect.x1 - rect.x0, rect.y1 - rect.y0);
+                let _ = self
+                    .tk
+                    .put(self.interp, PHOTO, (rect.x0, rect.y0), size, &rgba);
+            }
+        }
+    }
+
+    /// Finished frames: a refined frame of the current view replaces the picture; a preview
+    /// is enlarged to the window.
+    fn receive_frames(&mut self, done: &mpsc::Receiver<Done>) {
+        let (width, height) = self.size;
+        while let Ok(done) = done.try_recv() {
+            if self
+                .in_flight
+                .as_ref()
+                .is_some_and(|f| (f.0, f.1) == (done.generation, done.refined))
+            {
+                self.in_flight = None;
+            }
+            let fb = match done.frame {
+                Ok(fb) => fb,
+                Err(e) if e == CANCELLED => continue,
+                Err(e) => {
+                    self.error = Some(e);
+                    continue;
+                }
+            };
+            if done.refined && done.generation != self.generation {
+                continue;
+            }
+            let rgba = rgba8(&fb.pixels, fb.transparent);
+            if done.refined {
+                show(&self.tk, self.interp, self.size, &rgba);
+                self.refined_ms = done.seconds * 1e3;
+                self.times.1.push(done.seconds);
+                self.refined = Some((done.generation, fb));
+            } else {
+                let big = enlarge(&rgba, fb.width, fb.height, width, height);
+                show(&self.tk, self.interp, self.size, &big);
+                self.preview_ms = done.seconds * 1e3;
+                self.times.0.push(done.seconds);
+            }
+            self.shown = Some((done.generation, done.refined));
+            self.error = None;
+        }
+    }
+
+    /// `s`: once the refined frame of the current view is there, it is written as the next
+    /// numbered image, as a render would.
+    fn save_if_asked(&mut self) {
+        let generation = self.generation;
+        let Some((_, fb)) = self
+            .refined
+            .as_ref()
+            .filter(|(g, _)| self.save && *g == generation)
+        else {
+            return;
+        };
+        self.save = false;
+        match self.session.save_numbered(fb) {
+            Ok(Notice::Warning(t)) => self.reporter.warn(&t),
+            Ok(Notice::Note(t)) => self.reporter.info(&t),
+            Err(e) => self.reporter.warn(&format!("view: {e}")),
+        }
+    }
+
+    /// With nothing in flight: a preview of a changed view at once, the chosen method at full
+    /// size once the view has been still for [`SETTLE`].
+    fn schedule(&mut self, jobs: &mpsc::Sender<Job>) -> Result<(), String> {
+        if self.in_flight.is_some() || self.error.is_some() {
+            return Ok(());
+        }
+        let generation = self.generation;
+        let refine = matches!(self.shown, Some((g, false)) if g == generation)
+            && self.changed_at.elapsed() >= SETTLE;
+        let preview = self.shown.is_none_or(|(g, _)| g != generation);
+        if !(preview || refine) {
+            return Ok(());
+        }
+        let (width, height) = self.size;
+        let mut settings = Settings {
+            method: self.method,
+            order: Order::BackToFront,
+            ..self.session.settings().clone()
+        };
+        if preview {
+            settings.method = Method::InterpolateColor(InterpolateColor {
+                brightness: controls::brightness(&self.method),
+            });
+            settings.width = width.div_ceil(self.factor);
+            settings.height = height.div_ceil(self.factor);
+        }
+        let cancel = Arc::new(AtomicBool::new(false));
+        self.in_flight = Some((generation, refine, Arc::clone(&cancel)));
+        let job = Job {
+            generation,
+            refined: refine,
+            view: self.orbit.view(),
+            settings,
+            cancel,
+        };
+        jobs.send(job)
+            .map_err(|_| "view: the render thread stopped".to_string())
+    }
+
+    /// The status line: method, cells, state and frame times, and the keys.
+    fn show_status(&self) {
+        let ms = |v: f64| {
+            if v.is_nan() {
+                "–".to_string()
+            } else {
+                format!("{v:.0} ms")
+            }
+        };
+        let state = match (&self.error, self.shown) {
+            (Some(e), _) => format!("error: {e}"),
+            (None, Some((g, true))) if g == self.generation => "refined".to_string(),
+            _ => "preview".to_string(),
+        };
+        self.interp.set_var(
+            "::vorang::view_status",
+            &format!(
+                "{}  ·  {} cells  ·  {state}  ·  preview {} (1/{} size), refined {}\ndrag: turn · shift-drag: pan · wheel: zoom · 1–4 method · +/− brightness · r reset · s save · p print · q quit",
+                method_command(&self.method).trim_start_matches("method "),
+                self.cells,
+                ms(self.preview_ms),
+                self.factor,
+                ms(self.refined_ms)
+            ),
+        );
+    }
+
+    /// Closes the window and hands the final view and method back to the session.
+    fn close(mut self) {
+        let (width, height) = self.size;
+        let _ = self
+            .interp
+            .eval(&format!("catch {{destroy {TOPLEVEL}}}; update"));
+        if std::env::var_os("VORANG_TIMING").is_some() {
+            let (pw, ph) = (width.div_ceil(self.factor), height.div_ceil(self.factor));
+            self.reporter.info(&format!(
+                "view: {} previews {pw}×{ph} interpolateColor: {}; {} refined {width}×{height} {}: {}",
+                self.times.0.len(),
+                summary(&mut self.times.0),
+                self.times.1.len(),
+                method_command(&self.method).trim_start_matches("method "),
+                summary(&mut self.times.1)
+            ));
+        }
+        self.session.set_view(self.orbit.view());
+        self.session.set_method(self.method);
+    }
 }
 
 /// "median 41 ms (24.4 frames/s), 35…60 ms" of frame times in seconds.

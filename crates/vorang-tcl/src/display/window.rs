@@ -2,8 +2,8 @@
 //! size (1:1, no border, no scaling), reused by every `online` render and opened again if the
 //! user closed it.
 
-use crate::script::tcl::Interp;
-use crate::script::tk::Tk;
+use crate::tcl::Interp;
+use crate::tk::Tk;
 use vorang::render::Rect;
 
 /// The toplevel's Tk path.

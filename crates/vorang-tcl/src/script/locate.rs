@@ -6,7 +6,7 @@
 //! lines to the body's first line, until an anchor — `(file "x.tcl" line N)` or a procedure whose
 //! body's first line was recorded when it was defined.
 
-use super::tcl::{Interp, TclError};
+use crate::tcl::{Interp, TclError};
 
 /// `(file, line)` of the command that called the running command; the file is empty for
 /// commands evaluated from a string.

@@ -14,8 +14,6 @@ pub mod interrupt;
 mod locate;
 mod nearest;
 pub mod reference;
-pub mod tcl;
-pub mod tk;
 
 use std::cell::RefCell;
 use std::path::Path;
@@ -23,46 +21,10 @@ use std::rc::Rc;
 
 pub use commands::{COMMANDS, CommandInfo};
 
-use tcl::Interp;
+pub use crate::report::{Collect, Reporter, Terminal};
+use crate::tcl::Interp;
+pub use crate::{tcl, tk};
 use vorang::session::{Notice, Session};
-
-/// Where messages go: the render line and notes to standard output, warnings to standard
-/// error — or into a buffer for tests.
-pub trait Reporter {
-    fn info(&mut self, text: &str);
-    fn warn(&mut self, text: &str);
-    /// Render progress (`done` of `total` tiles), called from the render threads' side.
-    fn progress(&self, _done: usize, _total: usize) {}
-}
-
-/// Prints to the terminal, with a progress bar on standard error if it is a terminal.
-#[derive(Debug, Default)]
-pub struct Terminal;
-
-impl Reporter for Terminal {
-    fn info(&mut self, text: &str) {
-        println!("{text}");
-    }
-    fn warn(&mut self, text: &str) {
-        eprintln!("{text}");
-    }
-}
-
-/// Collects messages (for tests and embedding).
-#[derive(Debug, Default, Clone)]
-pub struct Collect {
-    pub info: Vec<String>,
-    pub warnings: Vec<String>,
-}
-
-impl Reporter for Collect {
-    fn info(&mut self, text: &str) {
-        self.info.push(text.to_string());
-    }
-    fn warn(&mut self, text: &str) {
-        self.warnings.push(text.to_string());
-    }
-}
 
 /// What the script commands work on: the core's [`Session`] (the typed scene), and what only a
 /// script run has — where messages go, the last `help` text, Tk for the windows.

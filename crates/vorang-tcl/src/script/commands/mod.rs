@@ -14,7 +14,7 @@ mod view;
 use std::path::{Path, PathBuf};
 
 use super::Context;
-use super::tcl::Interp;
+use crate::tcl::Interp;
 
 /// A command handler: edits the session, returns the Tcl result or an error message.
 pub type Run = fn(&mut Context, &Call) -> Result<String, String>;

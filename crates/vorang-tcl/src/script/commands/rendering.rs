@@ -8,7 +8,7 @@ use super::{Call, CommandInfo};
 use crate::display::online::show_while_rendering;
 use crate::display::{Window, rgba8};
 use crate::script::Context;
-use crate::script::tk::Tk;
+use crate::tk::Tk;
 use vorang::framebuffer::Background;
 use vorang::render::{Method, Order, TileSink};
 use vorang::session::{Frame, Hooks, timing_line};

@@ -10,7 +10,7 @@
 
 use std::ffi::{CString, c_char, c_int, c_void};
 
-use super::tcl::Interp;
+use crate::tcl::Interp;
 
 /// `Tk_PhotoImageBlock` (tk.h, stable since Tk 8.3).
 #[repr(C)]
