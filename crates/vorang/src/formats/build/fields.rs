@@ -1,7 +1,7 @@
 //! Arrays to fields: point arrays become `Linear` fields (`HigherOrder` ones, with mid-edge
 //! values, when the file has quadratic cells), cell arrays `Constant` fields carried by every
 //! tetrahedron cut from their cell, and each array's values get a HyperMesh type by the table
-//! in docs/formats.md ("Fields"). Separate from the cells because it is a rule of its own — the
+//! in docs/formats.md ("Fields (VTK and Gmsh)"). Separate from the cells because it is a rule of its own — the
 //! types a file's arrays become — and needs of the split only each tetrahedron's parent cell.
 
 use std::collections::HashMap;
@@ -211,7 +211,7 @@ fn data_type(scalar: ScalarType, components: usize) -> DataType {
 }
 
 /// 3-component arrays (velocities, displacements, colours) are `float[3]`, the vector type of
-/// HyperMesh (what EdgeElem gives and IDENTITY takes; docs/formats.md, "Fields"): values are
+/// HyperMesh (thesis appendices B and C: what EdgeElem gives and IDENTITY takes): values are
 /// rounded to the nearest `float`. An array with a value beyond `float`'s range (±3.4e38)
 /// keeps its type rather than turning into infinities.
 fn as_float3(ty: DataType, values: Values) -> (DataType, Values) {

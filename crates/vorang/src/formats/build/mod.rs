@@ -16,7 +16,7 @@
 //! faces, polyhedra, other higher-order cells) are skipped with one warning that counts them by
 //! type; a file without volume cells is an error.
 //!
-//! **Fields** (docs/formats.md, "Fields"): field number = position in the file, point arrays
+//! **Fields** (docs/formats.md, "Fields (VTK and Gmsh)"): field number = position in the file, point arrays
 //! first, then cell arrays. Point arrays become `Linear` fields (`HigherOrder` with quadratic
 //! cells), cell arrays `Constant` fields; a cell's value is carried by every tetrahedron cut
 //! from it.

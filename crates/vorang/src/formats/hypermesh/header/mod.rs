@@ -1,11 +1,11 @@
 //! The ASCII header of a HyperMesh file (thesis B.2): the title line, `Materials`, the element
 //! counts, the block declarations and the `Field` declarations.
 //!
-//! The header is tokenized first (`tokens`, so tokens may be separated by any or no whitespace)
-//! and then parsed statement by statement (`statements`, and `materials` for the one statement
-//! that spans lines); every token remembers its line so that a bad declaration is reported on
-//! its own line. The checks that span statements (unique markers, no block both NULL and
-//! given) run last, here.
+//! The header is tokenized first (`tokens`, so tokens may be separated by any or no whitespace,
+//! as docs/formats.md, "HyperMesh files", allows) and then parsed statement by statement
+//! (`statements`, and `materials` for the one statement that spans lines); every token
+//! remembers its line so that a bad declaration is reported on its own line. The checks that
+//! span statements (unique markers, no block both NULL and given) run last, here.
 
 mod materials;
 mod statements;
@@ -133,8 +133,8 @@ impl Header {
     }
 }
 
-/// The largest count a file may declare: 2³¹−1, the largest HyperMesh `int` (32 bits), in which
-/// the blocks' 1-based indices are written.
+/// The largest count a file may declare (docs/formats.md, "HyperMesh files"): 2³¹−1, the
+/// largest HyperMesh `int` (32 bits), in which the blocks' 1-based indices are written.
 pub const MAX_COUNT: u64 = (1 << 31) - 1;
 /// The largest array length accepted in a type (`float[n]`); keeps size arithmetic far from
 /// overflow while allowing any realistic vector.

@@ -1,8 +1,8 @@
 //! Reading a HyperMesh file: header, blocks, then resolving the geometry (every coding of
 //! triangles and tetrahedra becomes node indices), the mesh, the raw data and the fields.
 //!
-//! Indices in files are 1-based (thesis appendix B; docs/guide.md, section 2); in memory they
-//! are 0-based `u32`.
+//! Indices in files are 1-based (a decision of VoRANG's, as the thesis does not say where they
+//! start: docs/formats.md, "Indices and orientation"); in memory they are 0-based `u32`.
 
 //!
 //! One module per phase: `blocks` reads the text (header, then the blocks by marker),
