@@ -1,4 +1,4 @@
-//! The map file parser (thesis appendix C, SPEC §8).
+//! The map file parser (thesis appendix C).
 //!
 //! ```text
 //! # VoRANG Colormap 1.0
@@ -122,7 +122,6 @@ pub fn parse_map<T: Registry + ?Sized>(
     bytes: &[u8],
     file: &str,
 ) -> Result<(MapFile<T>, Vec<Warning>), ParseError> {
-    let err = |line: usize, msg: String| ParseError::new(file, line, msg);
     // A UTF-8 byte-order mark (as some Windows editors write) is not part of the title.
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     let text = String::from_utf8_lossy(bytes);
@@ -130,95 +129,141 @@ pub fn parse_map<T: Registry + ?Sized>(
     let title = T::KIND.title();
     check_title::<T>(file, lines.next().map(|(_, l)| l))?;
 
-    let mut data_field: Option<(MapField, usize)> = None;
-    let mut category: Option<(MapField, usize)> = None;
-    let mut pending: Vec<PendingLine> = Vec::new();
-    let mut blocks: HashMap<String, ParamBlock> = HashMap::new();
-    let mut current: Option<ParamBlock> = None;
-    let mut warnings = Vec::new();
-
+    let mut s = Statements {
+        file,
+        data_field: None,
+        category: None,
+        pending: Vec::new(),
+        blocks: HashMap::new(),
+        current: None,
+    };
     for (n, raw) in lines {
+        s.line::<T>(n, raw)?;
+    }
+    if let Some(prev) = s.current.take() {
+        s.blocks.insert(prev.marker.clone(), prev);
+    }
+    if s.pending.is_empty() {
+        return Err(ParseError::new(
+            file,
+            1,
+            format!(
+                "this {title} has no method line: expected e.g. 'SIMPLE_EMITTER @1' before the parameter blocks"
+            ),
+        ));
+    }
+    let warnings = category_warnings(file, s.category.is_some(), &s.pending);
+    let lines_out = method_lines::<T>(file, s.pending, &s.blocks)?;
+    let (data_field, data_field_line) = s.data_field.unwrap_or((MapField::from(0), 1));
+    Ok((
+        MapFile {
+            file: file.to_string(),
+            data_field,
+            data_field_line,
+            category: s.category,
+            lines: lines_out,
+        },
+        warnings,
+    ))
+}
+
+/// What the lines of a map file have given so far.
+struct Statements<'f> {
+    file: &'f str,
+    data_field: Option<(MapField, usize)>,
+    category: Option<(MapField, usize)>,
+    /// Method lines, in file order, their blocks not yet resolved.
+    pending: Vec<PendingLine>,
+    /// Parameter blocks by marker.
+    blocks: HashMap<String, ParamBlock>,
+    /// The block whose rows are being read.
+    current: Option<ParamBlock>,
+}
+
+impl Statements<'_> {
+    fn err(&self, line: usize, msg: String) -> ParseError {
+        ParseError::new(self.file, line, msg)
+    }
+
+    /// Line `n`: blank or a comment, a marker, a row of the current block, or (before the
+    /// first marker) a statement.
+    fn line<T: Registry + ?Sized>(&mut self, n: usize, raw: &str) -> Result<(), ParseError> {
         let content = strip_comment(raw).trim();
         if content.is_empty() {
-            continue;
+            return Ok(());
         }
         if let Some(name) = content.strip_prefix('@') {
-            let valid = !name.is_empty()
-                && name
-                    .bytes()
-                    .all(crate::formats::hypermesh::header::is_marker_char);
-            if !valid {
-                return Err(err(
-                    n,
-                    format!("expected a marker line such as '@1', found '{content}'"),
-                ));
-            }
-            if let Some(prev) = current.take() {
-                blocks.insert(prev.marker.clone(), prev);
-            }
-            if let Some(first) = blocks.get(name) {
-                return Err(err(
-                    n,
-                    format!("block @{name} appears twice (first on line {})", first.line),
-                ));
-            }
-            current = Some(ParamBlock {
-                marker: name.to_string(),
-                line: n,
-                rows: Vec::new(),
-            });
-            continue;
+            return self.marker(n, content, name);
         }
-        if let Some(block) = &mut current {
-            let mut numbers = Vec::new();
-            for tok in content.split_whitespace() {
-                match parse_f64(tok) {
-                    Some(v) if v.abs() > crate::data::MAX_MAGNITUDE => {
-                        return Err(err(
-                            n,
-                            format!(
-                                "block @{}: {tok} is too large: numbers up to ±{:e} are accepted",
-                                block.marker,
-                                crate::data::MAX_MAGNITUDE
-                            ),
-                        ));
-                    }
-                    Some(v) => numbers.push(v),
-                    None => {
-                        return Err(err(
-                            n,
-                            format!("block @{}: expected numbers, found '{tok}'", block.marker),
-                        ));
-                    }
-                }
-            }
-            block.rows.push(Row { line: n, numbers });
-            continue;
+        if let Some(block) = &mut self.current {
+            return block_row(self.file, block, n, content);
         }
+        self.statement::<T>(n, content)
+    }
+
+    /// `@name`: the start of a parameter block, which runs to the next marker.
+    fn marker(&mut self, n: usize, content: &str, name: &str) -> Result<(), ParseError> {
+        let valid = !name.is_empty()
+            && name
+                .bytes()
+                .all(crate::formats::hypermesh::header::is_marker_char);
+        if !valid {
+            return Err(self.err(
+                n,
+                format!("expected a marker line such as '@1', found '{content}'"),
+            ));
+        }
+        if let Some(prev) = self.current.take() {
+            self.blocks.insert(prev.marker.clone(), prev);
+        }
+        if let Some(first) = self.blocks.get(name) {
+            return Err(self.err(
+                n,
+                format!("block @{name} appears twice (first on line {})", first.line),
+            ));
+        }
+        self.current = Some(ParamBlock {
+            marker: name.to_string(),
+            line: n,
+            rows: Vec::new(),
+        });
+        Ok(())
+    }
+
+    /// `DataField …`, `CategoryField …` or a method line.
+    fn statement<T: Registry + ?Sized>(
+        &mut self,
+        n: usize,
+        content: &str,
+    ) -> Result<(), ParseError> {
         let Ok(all_words) = split_words(content) else {
-            return Err(err(
+            return Err(self.err(
                 n,
                 "a field name in double quotes is not closed: expected e.g. \"temperature\"".into(),
             ));
         };
         let mut words = all_words.into_iter();
-        let Some(first) = words.next() else { continue };
+        let Some(first) = words.next() else {
+            return Ok(());
+        };
         match first {
             "DataField" | "CategoryField" => {
                 let slot = if first == "DataField" {
-                    &mut data_field
+                    &mut self.data_field
                 } else {
-                    &mut category
+                    &mut self.category
                 };
                 if let Some((_, l)) = slot {
-                    return Err(err(
+                    return Err(ParseError::new(
+                        self.file,
                         n,
                         format!("{first} is given twice (first on line {l})"),
                     ));
                 }
                 let v = words.next().and_then(MapField::parse);
                 let (Some(v), None) = (v, words.next()) else {
-                    return Err(err(
+                    return Err(ParseError::new(
+                        self.file,
                         n,
                         format!(
                             "expected '{first} <field number>' (a whole number ≥ 0) or '{first} \"<field name>\"', for a complex field inside re(…), im(…) or abs(…)"
@@ -229,7 +274,7 @@ pub fn parse_map<T: Registry + ?Sized>(
             }
             name => {
                 let Some(index) = T::methods().iter().position(|m| m.name == name) else {
-                    return Err(err(
+                    return Err(self.err(
                         n,
                         format!(
                             "unknown {} method '{name}': expected one of {}",
@@ -239,8 +284,8 @@ pub fn parse_map<T: Registry + ?Sized>(
                     ));
                 };
                 let rest: Vec<&str> = words.collect();
-                pending.push(method_options(
-                    file,
+                self.pending.push(method_options(
+                    self.file,
                     n,
                     &rest,
                     index,
@@ -248,19 +293,50 @@ pub fn parse_map<T: Registry + ?Sized>(
                 )?);
             }
         }
+        Ok(())
     }
-    if let Some(prev) = current.take() {
-        blocks.insert(prev.marker.clone(), prev);
+}
+
+/// A row of numbers of the parameter block `block`.
+fn block_row(
+    file: &str,
+    block: &mut ParamBlock,
+    n: usize,
+    content: &str,
+) -> Result<(), ParseError> {
+    let mut numbers = Vec::new();
+    for tok in content.split_whitespace() {
+        match parse_f64(tok) {
+            Some(v) if v.abs() > crate::data::MAX_MAGNITUDE => {
+                return Err(ParseError::new(
+                    file,
+                    n,
+                    format!(
+                        "block @{}: {tok} is too large: numbers up to ±{:e} are accepted",
+                        block.marker,
+                        crate::data::MAX_MAGNITUDE
+                    ),
+                ));
+            }
+            Some(v) => numbers.push(v),
+            None => {
+                return Err(ParseError::new(
+                    file,
+                    n,
+                    format!("block @{}: expected numbers, found '{tok}'", block.marker),
+                ));
+            }
+        }
     }
-    if pending.is_empty() {
-        return Err(err(
-            1,
-            format!(
-                "this {title} has no method line: expected e.g. 'SIMPLE_EMITTER @1' before the parameter blocks"
-            ),
-        ));
-    }
-    if category.is_none() {
+    block.rows.push(Row { line: n, numbers });
+    Ok(())
+}
+
+/// Without a CategoryField only the first method line applies: a warning if the file seems to
+/// expect more (intervals, or several method lines).
+fn category_warnings(file: &str, has_category: bool, pending: &[PendingLine]) -> Vec<Warning> {
+    let mut warnings = Vec::new();
+    if !has_category {
         if let Some(p) = pending.iter().find(|p| p.interval.is_some()) {
             warnings.push(Warning {
                 file: file.into(),
@@ -275,7 +351,16 @@ pub fn parse_map<T: Registry + ?Sized>(
             });
         }
     }
+    warnings
+}
 
+/// Each method line with its parameter block, built into its method.
+fn method_lines<T: Registry + ?Sized>(
+    file: &str,
+    pending: Vec<PendingLine>,
+    blocks: &HashMap<String, ParamBlock>,
+) -> Result<Vec<MethodLine<T>>, ParseError> {
+    let err = |line: usize, msg: String| ParseError::new(file, line, msg);
     let mut lines_out = Vec::with_capacity(pending.len());
     for p in pending {
         let info = &T::methods()[p.index];
@@ -309,17 +394,7 @@ pub fn parse_map<T: Registry + ?Sized>(
             line: p.line,
         });
     }
-    let (data_field, data_field_line) = data_field.unwrap_or((MapField::from(0), 1));
-    Ok((
-        MapFile {
-            file: file.to_string(),
-            data_field,
-            data_field_line,
-            category,
-            lines: lines_out,
-        },
-        warnings,
-    ))
+    Ok(lines_out)
 }
 
 fn check_title<T: Registry + ?Sized>(file: &str, line: Option<&str>) -> Result<(), ParseError> {

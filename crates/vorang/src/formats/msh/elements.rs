@@ -1,0 +1,239 @@
+//! `$Elements`: Gmsh element types become VTK cell types, node tags stay tags until every
+//! section is read (`$Nodes` may follow `$Elements`), then [`Sections::connect_elements`] turns
+//! them into node indices. Three layouts, one function each: 2.2 ASCII (one element per line, its
+//! tags inline), 2.2 binary (blocks of one type with a common number of tags) and 4.1 (entity
+//! blocks, ASCII or binary alike, the physical group from `$Entities`).
+
+use super::Sections;
+use super::input::Msh;
+use crate::error::ParseError;
+use crate::formats::cell_type;
+use crate::formats::text::parse_int;
+
+/// VTK cell type and node count of a Gmsh element type (255 = a type VoRANG does not name).
+fn element_type(t: i64) -> Option<(u8, usize)> {
+    Some(match t {
+        1 => (cell_type::LINE, 2),
+        2 => (cell_type::TRIANGLE, 3),
+        3 => (cell_type::QUAD, 4),
+        4 => (cell_type::TETRA, 4),
+        5 => (cell_type::HEXAHEDRON, 8),
+        6 => (cell_type::WEDGE, 6),
+        7 => (cell_type::PYRAMID, 5),
+        8 => (21, 3),
+        9 => (22, 6),
+        10 => (28, 9),
+        11 => (cell_type::QUADRATIC_TETRA, 10),
+        12 => (29, 27),
+        13 => (32, 18),
+        14 => (255, 14),
+        15 => (cell_type::VERTEX, 1),
+        16 => (23, 8),
+        17 => (25, 20),
+        18 => (26, 15),
+        19 => (27, 13),
+        20 => (255, 9),
+        21 => (69, 10),
+        22 => (255, 12),
+        23 => (255, 15),
+        24 => (255, 15),
+        25 => (255, 21),
+        26 => (68, 4),
+        27 => (68, 5),
+        28 => (68, 6),
+        29 => (71, 20),
+        30 => (71, 35),
+        31 => (71, 56),
+        92 => (72, 64),
+        93 => (72, 125),
+        _ => return None,
+    })
+}
+
+impl Sections {
+    pub(super) fn elements(&mut self, m: &mut Msh, line: usize) -> Result<(), ParseError> {
+        self.desc.cells_line = line;
+        if self.version == 2 {
+            let n = m.c.count("the number of elements", 0)?;
+            let n = m.bounded(n as u64, 8, "the number of elements", line)?;
+            if m.binary {
+                m.c.next_line();
+                self.elements_v2_binary(m, n, line)?;
+            } else {
+                self.elements_v2_ascii(m, n)?;
+            }
+            if self.physical.iter().any(|&p| p != 0) {
+                self.has_physical = true;
+            }
+        } else {
+            self.elements_v4(m, line)?;
+            if !self.entity_physical.is_empty() {
+                self.has_physical = true;
+            }
+        }
+        m.end("Elements")
+    }
+
+    /// 2.2 binary: blocks of `type, count, number of tags`, then per element its tag, its tags
+    /// (the first is the physical group) and its nodes.
+    fn elements_v2_binary(&mut self, m: &mut Msh, n: usize, line: usize) -> Result<(), ParseError> {
+        let mut done = 0;
+        while done < n {
+            let ty = m.int("the element type")?;
+            let count = m.int("the number of elements that follow")?;
+            let ntags = m.int("the number of tags")?;
+            let (vtk, nn) = element_type(ty)
+                .ok_or_else(|| m.c.err(format!("unknown Gmsh element type {ty}")))?;
+            if count <= 0 || ntags < 0 || done + count as usize > n {
+                return Err(m.c.err(format!("element block of {count} elements with {ntags} tags does not fit the {n} elements declared")));
+            }
+            let count = m.bounded(count as u64, 4 * (1 + nn), "the element block", line)?;
+            for _ in 0..count {
+                let id = m.int("an element tag")?;
+                let mut phys = 0;
+                for k in 0..ntags {
+                    let t = m.int("an element tag value")?;
+                    if k == 0 {
+                        phys = t;
+                    }
+                }
+                let mut nodes = Vec::with_capacity(nn);
+                for _ in 0..nn {
+                    nodes.push(m.int("an element node")? as u64);
+                }
+                self.add_element(id as u64, phys, (vtk, nodes, m.c.line));
+            }
+            done += count;
+        }
+        Ok(())
+    }
+
+    /// 2.2 ASCII: `tag type ntags tag… node…` per line. An element type VoRANG does not know
+    /// is kept (as 255) with whatever nodes the line gives; it is skipped later.
+    fn elements_v2_ascii(&mut self, m: &mut Msh, n: usize) -> Result<(), ParseError> {
+        for _ in 0..n {
+            let (first, eline) = m.c.expect_token("an element")?;
+            let rest = m.c.rest_of_line();
+            let nums: Vec<i64> = std::iter::once(first)
+                .chain(rest.split_whitespace())
+                .map(|t| {
+                    parse_int(t).ok_or_else(|| {
+                        m.c.err_at(
+                            eline,
+                            format!("expected integers in an element line, found '{t}'"),
+                        )
+                    })
+                })
+                .collect::<Result<_, _>>()?;
+            if nums.len() < 3 {
+                return Err(m.c.err_at(
+                    eline,
+                    "an element line needs a tag, a type and a number of tags",
+                ));
+            }
+            let ntags = usize::try_from(nums[2].max(0)).unwrap_or(usize::MAX);
+            if nums.len() - 3 < ntags {
+                return Err(m
+                    .c
+                    .err_at(eline, "the element line is shorter than its number of tags"));
+            }
+            let nodes: Vec<u64> = nums[3 + ntags..].iter().map(|&x| x.max(0) as u64).collect();
+            let vtk = match element_type(nums[1]) {
+                Some((vtk, nn)) if nn == nodes.len() => vtk,
+                Some((_, nn)) => {
+                    return Err(m.c.err_at(
+                        eline,
+                        format!(
+                            "element {}: type {} has {nn} nodes, the line gives {}",
+                            nums[0],
+                            nums[1],
+                            nodes.len()
+                        ),
+                    ));
+                }
+                None => 255,
+            };
+            let phys = if ntags > 0 { nums[3] } else { 0 };
+            self.add_element(nums[0] as u64, phys, (vtk, nodes, eline));
+        }
+        Ok(())
+    }
+
+    /// 4.1: entity blocks of one element type; the physical group is the entity's.
+    fn elements_v4(&mut self, m: &mut Msh, line: usize) -> Result<(), ParseError> {
+        if m.binary {
+            m.c.next_line();
+        }
+        let blocks = m.size("the number of entity blocks")?;
+        let total = m.size("the number of elements")?;
+        m.size("the smallest element tag")?;
+        m.size("the largest element tag")?;
+        let blocks = m.bounded(blocks, 4, "the number of element blocks", line)?;
+        m.bounded(total, 8, "the number of elements", line)?;
+        for _ in 0..blocks {
+            let bline = m.c.line;
+            let dim = m.int("the entity dimension")?;
+            let tag = m.int("the entity tag")?;
+            let ty = m.int("the element type")?;
+            let n = m.size("the number of elements in the block")?;
+            let (vtk, nn) = element_type(ty)
+                .ok_or_else(|| m.c.err_at(bline, format!("unknown Gmsh element type {ty}")))?;
+            let n = m.bounded(
+                n,
+                2 * (1 + nn),
+                "the number of elements in the block",
+                bline,
+            )?;
+            let phys = self.entity_physical.get(&(dim, tag)).copied().unwrap_or(0);
+            for _ in 0..n {
+                let eline = m.c.line;
+                let id = m.size("an element tag")?;
+                let mut nodes = Vec::with_capacity(nn);
+                for _ in 0..nn {
+                    nodes.push(m.size("an element node")?);
+                }
+                self.add_element(id, phys, (vtk, nodes, eline));
+            }
+        }
+        Ok(())
+    }
+
+    /// One element: its tag, physical group and (VTK type, node tags, line).
+    fn add_element(&mut self, tag: u64, physical: i64, element: (u8, Vec<u64>, usize)) {
+        self.element_tags.push(tag);
+        self.physical.push(physical);
+        self.raw_elements.push(element);
+    }
+
+    /// Node tags → node indices, into the description's cells (with the 10-node tetrahedron's
+    /// last two nodes swapped into VTK order). A volume cell must name defined nodes; other
+    /// cells are skipped later, so an unknown tag there becomes node 0.
+    pub(super) fn connect_elements(&mut self, name: &str) -> Result<(), ParseError> {
+        let desc = &mut self.desc;
+        desc.cells.offsets.push(0);
+        for (i, (vtk, tags, eline)) in self.raw_elements.iter().enumerate() {
+            let mut nodes = Vec::with_capacity(tags.len());
+            for &t in tags {
+                match self.node_index.get(&t) {
+                    Some(&k) => nodes.push(k as u64),
+                    None if cell_type::volume_nodes(*vtk).is_some() => {
+                        return Err(ParseError::new(
+                            name,
+                            *eline,
+                            format!(
+                                "element {} refers to node tag {t}, which $Nodes does not define",
+                                self.element_tags[i]
+                            ),
+                        ));
+                    }
+                    None => nodes.push(0),
+                }
+            }
+            if *vtk == cell_type::QUADRATIC_TETRA {
+                nodes.swap(8, 9);
+            }
+            desc.cells.push(*vtk, &nodes);
+        }
+        Ok(())
+    }
+}

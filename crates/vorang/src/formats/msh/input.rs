@@ -1,0 +1,103 @@
+//! Reading Gmsh numbers: the same sequence of values is ASCII tokens in one file and binary
+//! words (4-byte `int`, 8-byte `double`, `size_t` of the declared size, in the file's byte
+//! order) in another. [`Msh`] hides the difference, so the section readers describe each
+//! section once; it also bounds every count by what the rest of the file can hold.
+
+use crate::error::ParseError;
+use crate::formats::text::Cursor;
+
+/// The reading position in a Gmsh file and how its numbers are stored.
+pub(super) struct Msh<'a> {
+    pub(super) c: Cursor<'a>,
+    pub(super) binary: bool,
+    /// Binary numbers in the other byte order than this machine's little-endian reading.
+    pub(super) swap: bool,
+    /// The size of a binary `size_t` (the data size of `$MeshFormat`).
+    pub(super) size_t: usize,
+}
+
+impl<'a> Msh<'a> {
+    pub(super) fn bytes(&mut self, n: usize, what: &str) -> Result<&'a [u8], ParseError> {
+        self.c.raw(n, what)
+    }
+
+    fn word(&mut self, size: usize, what: &str) -> Result<u64, ParseError> {
+        let b = self.bytes(size, what)?;
+        let mut w = [0u8; 8];
+        if self.swap {
+            for (i, x) in b.iter().rev().enumerate() {
+                w[i] = *x;
+            }
+        } else {
+            w[..size].copy_from_slice(b);
+        }
+        Ok(u64::from_le_bytes(w))
+    }
+
+    /// A signed 32-bit int (binary) or an integer token (ASCII).
+    pub(super) fn int(&mut self, what: &str) -> Result<i64, ParseError> {
+        if self.binary {
+            Ok(i64::from(self.word(4, what)? as u32 as i32))
+        } else {
+            self.c.int(what)
+        }
+    }
+
+    /// A `size_t` (binary 4.1) or an integer token.
+    pub(super) fn size(&mut self, what: &str) -> Result<u64, ParseError> {
+        if self.binary {
+            self.word(self.size_t, what)
+        } else {
+            let v = self.c.int(what)?;
+            u64::try_from(v).map_err(|_| self.c.err(format!("expected {what} ≥ 0, found {v}")))
+        }
+    }
+
+    pub(super) fn double(&mut self, what: &str) -> Result<f64, ParseError> {
+        if self.binary {
+            Ok(f64::from_bits(self.word(8, what)?))
+        } else {
+            self.c.float(what)
+        }
+    }
+
+    /// A count that the rest of the file can hold at `min_bytes` per item.
+    pub(super) fn bounded(
+        &self,
+        n: u64,
+        min_bytes: usize,
+        what: &str,
+        line: usize,
+    ) -> Result<usize, ParseError> {
+        let left = (self.c.bytes.len() - self.c.pos) as u64;
+        if n.saturating_mul(min_bytes.max(1) as u64) > left + 1 {
+            return Err(self.c.err_at(
+                line,
+                format!("{what} is {n}, more than the {left} bytes left in the file can hold"),
+            ));
+        }
+        Ok(n as usize)
+    }
+
+    /// Moves past `$End<section>`.
+    pub(super) fn end(&mut self, section: &str) -> Result<(), ParseError> {
+        let want = format!("$End{section}");
+        loop {
+            let Some((t, _)) = self.c.token() else {
+                return Err(self
+                    .c
+                    .err(format!("unexpected end of file: expected {want}")));
+            };
+            if t == want {
+                return Ok(());
+            }
+            if t.starts_with('$') && !self.binary {
+                return Err(self.c.err(format!("expected {want}, found '{t}'")));
+            }
+        }
+    }
+}
+
+pub(super) fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
+    hay.windows(needle.len()).position(|w| w == needle)
+}

@@ -1,0 +1,128 @@
+//! `$Entities` (4.1: the physical group of each geometric entity, which its elements inherit)
+//! and `$Nodes` (tags and coordinates, in 2.2's flat list or 4.1's entity blocks). Nodes are
+//! stored in file order and found by tag through `node_index`, since tags may be sparse.
+
+use super::Sections;
+use super::input::Msh;
+use crate::error::ParseError;
+
+impl Sections {
+    /// `$Entities` (4.1): points, curves, surfaces and volumes with their physical tags.
+    pub(super) fn entities(&mut self, m: &mut Msh, line: usize) -> Result<(), ParseError> {
+        if m.binary {
+            m.c.next_line();
+        }
+        let counts = [0; 4].map(|_| m.size("an entity count"));
+        let counts: Vec<u64> = counts.into_iter().collect::<Result<_, _>>()?;
+        for (dim, &n) in counts.iter().enumerate() {
+            let n = m.bounded(n, 8, "the entity count", line)?;
+            for _ in 0..n {
+                let tag = m.int("an entity tag")?;
+                let coords = if dim == 0 { 3 } else { 6 };
+                for _ in 0..coords {
+                    m.double("an entity bounding box")?;
+                }
+                let np = m.size("the number of physical tags")?;
+                let np = m.bounded(np, 1, "the number of physical tags", line)?;
+                for k in 0..np {
+                    let p = m.int("a physical tag")?;
+                    if k == 0 {
+                        self.entity_physical.insert((dim as i64, tag), p);
+                    }
+                }
+                if dim > 0 {
+                    let nb = m.size("the number of bounding entities")?;
+                    let nb = m.bounded(nb, 1, "the number of bounding entities", line)?;
+                    for _ in 0..nb {
+                        m.int("a bounding entity")?;
+                    }
+                }
+            }
+        }
+        m.end("Entities")
+    }
+
+    pub(super) fn nodes(&mut self, m: &mut Msh, line: usize) -> Result<(), ParseError> {
+        self.desc.points_line = line;
+        if self.version == 2 {
+            self.nodes_v2(m, line)?;
+        } else {
+            self.nodes_v4(m, line)?;
+        }
+        m.end("Nodes")
+    }
+
+    /// 2.2: `n`, then `tag x y z` per node.
+    fn nodes_v2(&mut self, m: &mut Msh, line: usize) -> Result<(), ParseError> {
+        let n = m.c.count("the number of nodes", 0)?;
+        let n = m.bounded(
+            n as u64,
+            if m.binary { 28 } else { 8 },
+            "the number of nodes",
+            line,
+        )?;
+        if m.binary {
+            m.c.next_line();
+        }
+        self.desc.nodes.reserve(n);
+        for _ in 0..n {
+            let tag = m.int("a node tag")?;
+            let p = [m.double("x")?, m.double("y")?, m.double("z")?];
+            // The tag as written (a negative one is named as such).
+            self.add_node(m, tag as u64, tag, p)?;
+        }
+        Ok(())
+    }
+
+    /// 4.1: entity blocks, each its node tags and then their coordinates.
+    fn nodes_v4(&mut self, m: &mut Msh, line: usize) -> Result<(), ParseError> {
+        if m.binary {
+            m.c.next_line();
+        }
+        let blocks = m.size("the number of entity blocks")?;
+        let total = m.size("the number of nodes")?;
+        m.size("the smallest node tag")?;
+        m.size("the largest node tag")?;
+        let blocks = m.bounded(blocks, 4, "the number of node blocks", line)?;
+        let total = m.bounded(total, 8, "the number of nodes", line)?;
+        self.desc.nodes.reserve(total);
+        for _ in 0..blocks {
+            let bline = m.c.line;
+            let _dim = m.int("the entity dimension")?;
+            let _tag = m.int("the entity tag")?;
+            let parametric = m.int("the parametric flag")?;
+            let n = m.size("the number of nodes in the block")?;
+            let n = m.bounded(n, 8, "the number of nodes in the block", bline)?;
+            if parametric != 0 {
+                return Err(m.c.err_at(
+                    bline,
+                    "parametric node coordinates are not supported; save the mesh without them",
+                ));
+            }
+            let mut tags = Vec::with_capacity(n);
+            for _ in 0..n {
+                tags.push(m.size("a node tag")?);
+            }
+            for tag in tags {
+                let p = [m.double("x")?, m.double("y")?, m.double("z")?];
+                self.add_node(m, tag, tag, p)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// A node with tag `tag` (`shown` in messages), which must not repeat an earlier one.
+    fn add_node(
+        &mut self,
+        m: &Msh,
+        tag: u64,
+        shown: impl std::fmt::Display,
+        p: [f64; 3],
+    ) -> Result<(), ParseError> {
+        if self.node_index.insert(tag, self.desc.nodes.len()).is_some() {
+            return Err(m.c.err(format!("node tag {shown} appears twice")));
+        }
+        self.desc.nodes.push(p);
+        Ok(())
+    }
+}

@@ -1,0 +1,511 @@
+//! Array decoding: the middle phase of reading a `.vtu` file, from one declared `<DataArray>`
+//! to its numbers. ASCII arrays are parsed as text; binary and appended ones go through
+//! [`super::binary`] (headers, base64, compressed blocks) into a [`Sink`], which converts bytes
+//! to values as they arrive so that a large array never exists twice. The connectivity has its
+//! own path ([`decode_indices`]) straight into 32-bit indices. Kept apart from the XML walk and
+//! from the binary layouts because this is where the reading time of a large file goes: the
+//! conversion loops stay together, small and easy to measure.
+
+use super::binary::{binary_base64, binary_raw};
+use super::xml::{DataFormat, Decl, NumType, Section, Settings, decl_text};
+use crate::error::ParseError;
+use crate::formats::ArrayValues;
+use crate::formats::text::{parse_float, parse_int};
+
+/// Appends piece `v` to the values of the same array from the pieces before (mixed types
+/// become `f64`).
+pub(super) fn append_values(dest: &mut ArrayValues, v: ArrayValues) {
+    match (dest, v) {
+        (ArrayValues::Int(a), ArrayValues::Int(b)) => a.extend(b),
+        (ArrayValues::F32(a), ArrayValues::F32(b)) => a.extend(b),
+        (ArrayValues::F64(a), ArrayValues::F64(b)) => a.extend(b),
+        (d, b) => {
+            let mut all: Vec<f64> = (0..d.len()).map(|i| d.get(i)).collect();
+            all.extend((0..b.len()).map(|i| b.get(i)));
+            *d = ArrayValues::F64(all);
+        }
+    }
+}
+
+/// Decodes one array's `count` numbers.
+pub(super) fn decode(s: &Settings, d: &Decl, count: usize) -> Result<ArrayValues, ParseError> {
+    if d.format == DataFormat::Ascii {
+        want_bytes(s, d, count)?;
+        return ascii_values(s, d, count, &what_of(d));
+    }
+    let sink = Sink::new(d.ty, s.big_endian, 0);
+    Ok(decode_into(s, d, count, sink)?.values)
+}
+
+/// The bytes `count` values take, refused when more than the file can hold (allocation stays
+/// bounded by the file's size).
+fn want_bytes(s: &Settings, d: &Decl, count: usize) -> Result<usize, ParseError> {
+    count
+        .checked_mul(d.ty.size())
+        .filter(|&b| b <= s.limit)
+        .ok_or_else(|| {
+            ParseError::new(
+                s.name,
+                d.line,
+                format!(
+                    "{}: {count} values are more than this file can hold",
+                    what_of(d)
+                ),
+            )
+        })
+}
+
+fn what_of(d: &Decl) -> String {
+    if d.name.is_empty() {
+        "DataArray".to_string()
+    } else {
+        format!("DataArray \"{}\"", d.name)
+    }
+}
+
+/// What a [`Sink`] produced.
+struct Decoded {
+    values: ArrayValues,
+    index: Option<IndexOut>,
+}
+
+/// Decodes a binary or appended array's `count` numbers into `sink`.
+fn decode_into(
+    s: &Settings,
+    d: &Decl,
+    count: usize,
+    mut sink: Sink,
+) -> Result<Decoded, ParseError> {
+    let what = what_of(d);
+    let err = |msg: String| ParseError::new(s.name, d.line, format!("{what}: {msg}"));
+    let want_bytes = want_bytes(s, d, count)?;
+    sink.want = want_bytes;
+    let sink = &mut sink;
+    match d.format {
+        DataFormat::Ascii => unreachable!("ascii arrays are decoded as text"),
+        DataFormat::Binary => {
+            let text = decl_text(s, d);
+            binary_base64(s, &without_whitespace(&text), want_bytes, sink).map_err(&err)?;
+        }
+        DataFormat::Appended(offset) => {
+            appended_into(s, offset, want_bytes, sink).map_err(&err)?;
+        }
+    }
+    if sink.seen < want_bytes {
+        return Err(err(format!(
+            "holds {} bytes, but {count} values of {:?} need {want_bytes}",
+            sink.seen, d.ty
+        )));
+    }
+    if sink.seen > want_bytes && !(d.section == Section::Cells && d.name == "offsets") {
+        return Err(err(format!(
+            "holds {} bytes, but {count} values of {:?} need {want_bytes}: the array is longer than the counts say",
+            sink.seen, d.ty
+        )));
+    }
+    let index = sink.index.take();
+    let values = std::mem::replace(sink, Sink::new(d.ty, false, 0))
+        .finish()
+        .map_err(err)?;
+    Ok(Decoded { values, index })
+}
+
+/// An appended array at `offset` of the appended data, raw or base64.
+fn appended_into(
+    s: &Settings,
+    offset: u64,
+    want_bytes: usize,
+    sink: &mut Sink,
+) -> Result<(), String> {
+    let Some((app, start, raw)) = s.appended else {
+        return Err("format=\"appended\", but the file has no <AppendedData> section".into());
+    };
+    if offset >= app.len() as u64 && want_bytes > 0 {
+        return Err(format!(
+            "offset {offset} lies beyond the appended data ({} bytes from byte {start})",
+            app.len()
+        ));
+    }
+    let o = offset.min(app.len() as u64) as usize;
+    if raw {
+        binary_raw(s, &app[o..], start + o, want_bytes, sink)
+    } else {
+        // A base64 chunk ends where the next array's begins.
+        let end = s
+            .offsets
+            .iter()
+            .find(|&&x| x > offset)
+            .map_or(app.len(), |&x| (x as usize).min(app.len()));
+        binary_base64(s, &without_whitespace(&app[o..end]), want_bytes, sink)
+    }
+}
+
+/// Base64 text without its whitespace: borrowed when only the ends have any (the usual case).
+fn without_whitespace(text: &[u8]) -> std::borrow::Cow<'_, [u8]> {
+    let start = text
+        .iter()
+        .position(|b| !b.is_ascii_whitespace())
+        .unwrap_or(text.len());
+    let end = text
+        .iter()
+        .rposition(|b| !b.is_ascii_whitespace())
+        .map_or(start, |e| e + 1);
+    let inner = &text[start..end.max(start)];
+    if inner.iter().any(u8::is_ascii_whitespace) {
+        inner
+            .iter()
+            .copied()
+            .filter(|b| !b.is_ascii_whitespace())
+            .collect::<Vec<u8>>()
+            .into()
+    } else {
+        inner.into()
+    }
+}
+
+/// Decodes the connectivity: `count` 0-based indices of the piece's `points`, straight into
+/// 32-bit storage (a large file's biggest array never exists as 64-bit numbers). An index
+/// outside `0…points-1` is stored as `u32::MAX`; the first few such are returned with their
+/// positions and values, for messages.
+pub(super) fn decode_indices(
+    s: &Settings,
+    d: &Decl,
+    count: usize,
+    points: usize,
+) -> Result<(Vec<u32>, Outside), ParseError> {
+    let limit = points.min(u32::MAX as usize) as u64;
+    let integer = !matches!(d.ty, NumType::F32 | NumType::F64);
+    if d.format == DataFormat::Ascii || !integer {
+        let ArrayValues::Int(v) = decode(s, d, count)? else {
+            return Err(ParseError::new(
+                s.name,
+                d.line,
+                "connectivity must be an integer array",
+            ));
+        };
+        let mut outside = Vec::new();
+        let conn = v
+            .iter()
+            .enumerate()
+            .map(|(i, &x)| match u32::try_from(x) {
+                Ok(n) if u64::from(n) < limit => n,
+                _ => {
+                    if outside.len() < MAX_OUTSIDE {
+                        outside.push((i, x));
+                    }
+                    u32::MAX
+                }
+            })
+            .collect();
+        return Ok((conn, outside));
+    }
+    let mut sink = Sink::new(d.ty, s.big_endian, 0);
+    sink.index = Some(IndexOut {
+        v: Vec::new(),
+        limit,
+        outside: Vec::new(),
+    });
+    match decode_into(s, d, count, sink)? {
+        Decoded {
+            index: Some(out), ..
+        } => Ok((out.v, out.outside)),
+        _ => Err(ParseError::new(
+            s.name,
+            d.line,
+            "connectivity must be an integer array",
+        )),
+    }
+}
+
+/// Out-of-range indices with their positions (the first few), for messages.
+pub(super) type Outside = Vec<(usize, i64)>;
+
+/// How many out-of-range indices [`decode_indices`] keeps for messages.
+const MAX_OUTSIDE: usize = 16;
+
+/// 32-bit index output of a [`Sink`].
+struct IndexOut {
+    v: Vec<u32>,
+    /// Indices must be below this.
+    limit: u64,
+    outside: Outside,
+}
+
+/// Turns decoded bytes into values as they arrive (block by block for compressed data), so a
+/// large array never exists twice — once as bytes, once as numbers.
+pub(super) struct Sink {
+    ty: NumType,
+    big: bool,
+    /// Bytes wanted; what arrives beyond is counted, not kept.
+    want: usize,
+    seen: usize,
+    carry: Vec<u8>,
+    out: ArrayValues,
+    /// Set for the connectivity: 32-bit indices instead of `out`.
+    index: Option<IndexOut>,
+    error: Option<String>,
+}
+
+impl Sink {
+    pub(super) fn new(ty: NumType, big: bool, want: usize) -> Sink {
+        let out = match ty {
+            NumType::F32 => ArrayValues::F32(Vec::new()),
+            NumType::F64 => ArrayValues::F64(Vec::new()),
+            _ => ArrayValues::Int(Vec::new()),
+        };
+        Sink {
+            ty,
+            big,
+            want,
+            seen: 0,
+            carry: Vec::new(),
+            out,
+            index: None,
+            error: None,
+        }
+    }
+
+    /// Makes room for `bytes` of data — called once the file is known to hold them (the
+    /// counts alone could ask for anything).
+    pub(super) fn reserve(&mut self, bytes: usize) {
+        let n = bytes.min(self.want) / self.ty.size();
+        if let Some(idx) = &mut self.index {
+            idx.v.reserve_exact(n);
+            return;
+        }
+        match &mut self.out {
+            ArrayValues::F32(v) => v.reserve_exact(n),
+            ArrayValues::F64(v) => v.reserve_exact(n),
+            ArrayValues::Int(v) => v.reserve_exact(n),
+        }
+    }
+
+    pub(super) fn push(&mut self, bytes: &[u8]) {
+        let keep = bytes.len().min(self.want.saturating_sub(self.seen));
+        self.seen = self.seen.saturating_add(bytes.len());
+        let mut bytes = &bytes[..keep];
+        let size = self.ty.size();
+        if !self.carry.is_empty() {
+            let take = (size - self.carry.len()).min(bytes.len());
+            self.carry.extend_from_slice(&bytes[..take]);
+            bytes = &bytes[take..];
+            if self.carry.len() == size {
+                let c = std::mem::take(&mut self.carry);
+                self.convert(&c);
+            }
+        }
+        let whole = bytes.len() / size * size;
+        self.convert(&bytes[..whole]);
+        self.carry.extend_from_slice(&bytes[whole..]);
+    }
+
+    fn convert(&mut self, data: &[u8]) {
+        if let Some(idx) = &mut self.index {
+            convert_indices(data, self.ty, self.big, idx);
+            return;
+        }
+        if let Err(e) = convert_into(data, self.ty, self.big, &mut self.out) {
+            self.error.get_or_insert(e);
+        }
+    }
+
+    fn finish(self) -> Result<ArrayValues, String> {
+        match self.error {
+            Some(e) => Err(e),
+            None => Ok(self.out),
+        }
+    }
+}
+
+/// Appends the integers in `data` to `out` as 32-bit indices (see [`decode_indices`]).
+fn convert_indices(data: &[u8], ty: NumType, big: bool, out: &mut IndexOut) {
+    let IndexOut { v, limit, outside } = out;
+    let limit = *limit;
+    let first = v.len();
+    let mut check = |i: usize, x: i64| -> u32 {
+        if (0..limit as i64).contains(&x) {
+            x as u32
+        } else {
+            if outside.len() < MAX_OUTSIDE {
+                outside.push((first + i, x));
+            }
+            u32::MAX
+        }
+    };
+    let size = ty.size();
+    let chunks = data.chunks_exact(size);
+    match (ty, big) {
+        (NumType::I64, false) => v.extend(chunks.enumerate().map(|(i, c)| {
+            check(
+                i,
+                i64::from_le_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]]),
+            )
+        })),
+        (NumType::I32, false) => v.extend(
+            chunks
+                .enumerate()
+                .map(|(i, c)| check(i, i64::from(i32::from_le_bytes([c[0], c[1], c[2], c[3]])))),
+        ),
+        _ => {
+            let mut tmp = ArrayValues::Int(Vec::with_capacity(data.len() / size));
+            let result = convert_into(data, ty, big, &mut tmp);
+            if let (Ok(()), ArrayValues::Int(t)) = (result, tmp) {
+                v.extend(t.into_iter().enumerate().map(|(i, x)| check(i, x)));
+            } else {
+                // A UInt64 beyond i64: out of range like any other.
+                let n = data.len() / size;
+                v.extend((0..n).map(|i| check(i, -1)));
+            }
+        }
+    }
+}
+
+fn convert_into(data: &[u8], ty: NumType, big: bool, out: &mut ArrayValues) -> Result<(), String> {
+    let size = ty.size();
+    // The common cases, little-endian and whole numbers of elements, in tight loops that the
+    // compiler vectorises (large connectivity arrays spend most of their reading time here).
+    if !big {
+        let chunks = data.chunks_exact(size);
+        let four = |c: &[u8]| [c[0], c[1], c[2], c[3]];
+        let eight = |c: &[u8]| [c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]];
+        match (ty, &mut *out) {
+            (NumType::F32, ArrayValues::F32(v)) => {
+                v.extend(chunks.map(|c| f32::from_le_bytes(four(c))));
+                return Ok(());
+            }
+            (NumType::F64, ArrayValues::F64(v)) => {
+                v.extend(chunks.map(|c| f64::from_le_bytes(eight(c))));
+                return Ok(());
+            }
+            (NumType::I64, ArrayValues::Int(v)) => {
+                v.extend(chunks.map(|c| i64::from_le_bytes(eight(c))));
+                return Ok(());
+            }
+            (NumType::I32, ArrayValues::Int(v)) => {
+                v.extend(chunks.map(|c| i64::from(i32::from_le_bytes(four(c)))));
+                return Ok(());
+            }
+            (NumType::U8, ArrayValues::Int(v)) => {
+                v.extend(data.iter().map(|&b| i64::from(b)));
+                return Ok(());
+            }
+            _ => {}
+        }
+    }
+    let word = |chunk: &[u8]| -> [u8; 8] {
+        let mut w = [0u8; 8];
+        if big {
+            for (k, b) in chunk.iter().rev().enumerate() {
+                w[k] = *b;
+            }
+        } else {
+            w[..chunk.len()].copy_from_slice(chunk);
+        }
+        w
+    };
+    let chunks = data.chunks_exact(size);
+    match out {
+        ArrayValues::F32(v) => v.extend(chunks.map(|c| {
+            let w = word(c);
+            f32::from_le_bytes([w[0], w[1], w[2], w[3]])
+        })),
+        ArrayValues::F64(v) => v.extend(chunks.map(|c| f64::from_le_bytes(word(c)))),
+        ArrayValues::Int(out) => {
+            for c in chunks {
+                let w = word(c);
+                let v = match ty {
+                    NumType::I8 => i64::from(w[0] as i8),
+                    NumType::U8 => i64::from(w[0]),
+                    NumType::I16 => i64::from(i16::from_le_bytes([w[0], w[1]])),
+                    NumType::U16 => i64::from(u16::from_le_bytes([w[0], w[1]])),
+                    NumType::I32 => i64::from(i32::from_le_bytes([w[0], w[1], w[2], w[3]])),
+                    NumType::U32 => i64::from(u32::from_le_bytes([w[0], w[1], w[2], w[3]])),
+                    NumType::I64 => i64::from_le_bytes(w),
+                    _ => {
+                        let u = u64::from_le_bytes(w);
+                        i64::try_from(u).map_err(|_| format!("UInt64 value {u} is too large"))?
+                    }
+                };
+                out.push(v);
+            }
+        }
+    }
+    Ok(())
+}
+
+fn ascii_values(
+    s: &Settings,
+    d: &Decl,
+    count: usize,
+    what: &str,
+) -> Result<ArrayValues, ParseError> {
+    let text = decl_text(s, d);
+    let text = std::str::from_utf8(&text)
+        .map_err(|_| ParseError::new(s.name, d.line, format!("{what}: ascii data are not text")))?;
+    let mut toks = text.split_ascii_whitespace();
+    let line_of_tok = |k: usize| {
+        // The line of the k-th token, counted from the DataArray's line.
+        let mut seen = 0;
+        let mut line = d.line;
+        let mut in_tok = false;
+        for b in text.bytes() {
+            if b == b'\n' {
+                line += 1;
+            }
+            if b.is_ascii_whitespace() {
+                in_tok = false;
+            } else if !in_tok {
+                in_tok = true;
+                if seen == k {
+                    return line;
+                }
+                seen += 1;
+            }
+        }
+        line
+    };
+    let float = matches!(d.ty, NumType::F32 | NumType::F64);
+    let mut ints = Vec::new();
+    let mut floats = Vec::new();
+    for k in 0..count {
+        let Some(t) = toks.next() else {
+            return Err(ParseError::new(
+                s.name,
+                line_of_tok(k),
+                format!("{what}: has {k} values, but {count} are needed"),
+            ));
+        };
+        if float {
+            let v = parse_float(t).ok_or_else(|| {
+                ParseError::new(
+                    s.name,
+                    line_of_tok(k),
+                    format!("{what}: expected a number, found '{t}'"),
+                )
+            })?;
+            floats.push(v);
+        } else {
+            let v = parse_int(t).ok_or_else(|| {
+                ParseError::new(
+                    s.name,
+                    line_of_tok(k),
+                    format!("{what}: expected an integer, found '{t}'"),
+                )
+            })?;
+            ints.push(v);
+        }
+    }
+    let is_offsets = d.section == Section::Cells && d.name == "offsets";
+    if toks.next().is_some() && !is_offsets {
+        return Err(ParseError::new(
+            s.name,
+            line_of_tok(count),
+            format!("{what}: has more than the {count} values the counts ask for"),
+        ));
+    }
+    Ok(match d.ty {
+        NumType::F32 => ArrayValues::F32(floats.into_iter().map(|v| v as f32).collect()),
+        NumType::F64 => ArrayValues::F64(floats),
+        _ => ArrayValues::Int(ints),
+    })
+}
