@@ -14,10 +14,15 @@ fn repo() -> PathBuf {
 
 /// The product source roots: each crate's `src/` (tests, benches and fuzz targets aside).
 fn roots() -> Vec<PathBuf> {
-    ["crates/vorang/src", "crates/vorang-tcl/src", "src", "python/src"]
-        .iter()
-        .map(|r| repo().join(r))
-        .collect()
+    [
+        "crates/vorang/src",
+        "crates/vorang-tcl/src",
+        "src",
+        "python/src",
+    ]
+    .iter()
+    .map(|r| repo().join(r))
+    .collect()
 }
 
 fn rust_files(dir: &Path, out: &mut Vec<PathBuf>) {
@@ -87,7 +92,10 @@ fn references(module: &[String], code: &str) -> Vec<Vec<String>> {
     let mut out = Vec::new();
     let bytes: Vec<char> = code.chars().collect();
     let text: String = bytes.iter().collect();
-    for (start, _) in text.match_indices("crate::").chain(text.match_indices("super::")) {
+    for (start, _) in text
+        .match_indices("crate::")
+        .chain(text.match_indices("super::"))
+    {
         if start > 0 {
             let before = bytes[start - 1];
             if before.is_alphanumeric() || before == '_' || before == ':' {
@@ -113,7 +121,9 @@ fn references(module: &[String], code: &str) -> Vec<Vec<String>> {
                 path.extend(
                     item.trim()
                         .split("::")
-                        .take_while(|s| !s.is_empty() && s.chars().all(|c| c.is_alphanumeric() || c == '_'))
+                        .take_while(|s| {
+                            !s.is_empty() && s.chars().all(|c| c.is_alphanumeric() || c == '_')
+                        })
                         .map(str::to_string),
                 );
                 out.push(path);
@@ -271,6 +281,9 @@ fn the_checks_find_what_they_look_for() {
     let r = references(&["a".into(), "b".into()], "use super::{x, y::z};");
     assert_eq!(
         r,
-        vec![vec!["a".to_string(), "x".into()], vec!["a".into(), "y".into(), "z".into()]]
+        vec![
+            vec!["a".to_string(), "x".into()],
+            vec!["a".into(), "y".into(), "z".into()]
+        ]
     );
 }

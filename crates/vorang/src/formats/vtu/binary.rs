@@ -7,8 +7,8 @@
 
 use base64::Engine as _;
 
-use super::arrays::Sink;
 use super::compress::{Compressor, decompress};
+use super::sink::Sink;
 use super::xml::Settings;
 
 pub(super) fn b64() -> base64::engine::GeneralPurpose {
@@ -269,7 +269,7 @@ pub(super) fn binary_base64(
 
 #[cfg(test)]
 mod tests {
-    use super::super::arrays::Sink;
+    use super::super::sink::Sink;
     use super::super::xml::NumType;
     use super::*;
 

@@ -31,6 +31,7 @@ mod arrays;
 mod binary;
 mod compress;
 mod pieces;
+mod sink;
 mod write;
 mod xml;
 

@@ -6,7 +6,8 @@
 //! types, indices against the piece's points, the same arrays in every piece) sit in one place
 //! and read in the order a file is built.
 
-use super::arrays::{Outside, append_values, decode, decode_indices};
+use super::arrays::{append_values, decode, decode_indices};
+use super::sink::Outside;
 use super::xml::{Decl, Document, NumType, Piece, Section, Settings};
 use crate::error::ParseError;
 use crate::formats::{Array, Cells, MeshDescription, cell_type};
