@@ -215,12 +215,15 @@ fn data_command(command: Command) -> Result<bool, Error> {
     Ok(true)
 }
 
-/// `file:line: message`, then Tcl's trace.
+/// `file:line: message`, then Tcl's trace where it says more: the calls (procedures, sourced
+/// files, loop bodies) that led there, without repeating the message or the failing command
+/// the first line already locates.
 fn report(e: &ScriptError) {
     eprintln!("{e}");
-    if !e.trace.is_empty() && e.trace != e.message {
+    let trace = e.trace.strip_prefix(e.message.as_str()).unwrap_or(&e.trace);
+    if trace.contains("invoked from within") {
         eprintln!("Tcl trace:");
-        for line in e.trace.lines() {
+        for line in trace.lines().filter(|l| !l.trim().is_empty()) {
             eprintln!("    {line}");
         }
     }

@@ -101,3 +101,23 @@ fn a_new_output_name_starts_at_one() {
         ]
     );
 }
+
+/// A failing `-e` command is reported once: `-e:1: message`, without a trace that repeats it;
+/// a failure inside a procedure still shows the calls that led there.
+#[test]
+fn e_errors_are_not_printed_twice() {
+    let run = |script: &str| {
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_vorang"))
+            .args(["-e", script])
+            .output()
+            .unwrap();
+        assert!(!out.status.success());
+        String::from_utf8_lossy(&out.stderr).into_owned()
+    };
+    let plain = run("no_such_command 1");
+    assert_eq!(plain.matches("invalid command name").count(), 1, "{plain}");
+    assert!(!plain.contains("Tcl trace"), "{plain}");
+    let nested = run("proc f {} { vol_rotate 1 2 3 x }; f");
+    assert_eq!(nested.matches("expected a number").count(), 1, "{nested}");
+    assert!(nested.contains("(procedure \"f\" line 1)"), "{nested}");
+}
