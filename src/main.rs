@@ -62,20 +62,19 @@ enum Command {
     View {
         /// A mesh file (HyperMesh, .vtu, .vtk, .msh).
         file: PathBuf,
-        /// A colormap file (default: constant red emission).
+        /// A colormap file (without --colormap and --alphamap: the viridis preset and an
+        /// absorption ramp over the first field's range, as `vorang info` suggests).
         #[arg(long, value_name = "FILE")]
         colormap: Option<PathBuf>,
-        /// An alphamap file (default: constant absorption 2).
+        /// An alphamap file.
         #[arg(long, value_name = "FILE")]
         alphamap: Option<PathBuf>,
         /// The method and its parameters, as for the `method` command (e.g. "exact linear 0
-        /// 1"); the keys 1–4 switch it in the window.
-        #[arg(
-            long,
-            value_name = "METHOD",
-            default_value = "interpolateCoeff linear 1"
-        )]
-        method: String,
+        /// 1"); the keys 1–4 switch it in the window. Default: interpolateCoeff linear, with
+        /// brightness 1 (with the preset maps: their χ_max, so that opaque parts show the
+        /// preset's colours).
+        #[arg(long, value_name = "METHOD")]
+        method: Option<String>,
         /// The image size in pixels.
         #[arg(long, num_args = 2, value_names = ["W", "H"])]
         size: Option<Vec<usize>>,
@@ -412,6 +411,13 @@ fn view(runner: &Runner, command: &Command) -> Result<(), String> {
     let mut context = runner.context();
     let (_, notices) = context.session.load_volume(file)?;
     context.report(notices);
+    let mut brightness = 1.0;
+    if colormap.is_none() && alphamap.is_none()
+        && let Some((chi, note)) = context.session.use_preset_maps("view")?
+    {
+        brightness = chi;
+        context.report([note]);
+    }
     if let Some(path) = colormap {
         let (map, w) = read_map::<dyn ColorShading>(path).map_err(|e| e.to_string())?;
         context.session.set_colormap(map)?;
@@ -422,7 +428,12 @@ fn view(runner: &Runner, command: &Command) -> Result<(), String> {
         context.session.set_alphamap(map)?;
         context.report(w.iter().map(|w| Notice::Warning(w.to_string())));
     }
-    let words: Vec<&str> = method.split_whitespace().collect();
+    let default_method = format!("interpolateCoeff linear {brightness}");
+    let words: Vec<&str> = method
+        .as_deref()
+        .unwrap_or(&default_method)
+        .split_whitespace()
+        .collect();
     context
         .session
         .set_method(Method::parse(&words).map_err(|e| format!("method: {e}"))?);

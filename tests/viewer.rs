@@ -191,3 +191,30 @@ fn vorang_view_loads_the_scene_and_needs_a_display() {
     let stderr = String::from_utf8_lossy(&out.stderr);
     assert!(stderr.contains("no window can be opened"), "{stderr}");
 }
+
+/// `vorang view FILE` without maps shows the first picture `vorang info` suggests (viridis and
+/// an absorption ramp over the first field's range) and says so — before it needs a window.
+#[test]
+fn view_without_maps_uses_the_preset_and_says_so() {
+    let out = Command::new(env!("CARGO_BIN_EXE_vorang"))
+        .args(["view", &example("inclusion/inclusion.vtu")])
+        .env_remove("DISPLAY")
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        stdout.contains("view: no maps given: the viridis preset and an absorption ramp")
+            && stdout.contains("field 0 \"temperature\", [0, 0.715872]"),
+        "{stdout}"
+    );
+    assert!(stderr.contains("no window can be opened"), "{stderr}");
+    // With a colormap given, no preset.
+    let out = Command::new(env!("CARGO_BIN_EXE_vorang"))
+        .args(["view", &example("inclusion/inclusion.vtu"), "--colormap"])
+        .arg(example("inclusion/temperature.cmap"))
+        .env_remove("DISPLAY")
+        .output()
+        .unwrap();
+    assert!(!String::from_utf8_lossy(&out.stdout).contains("preset"));
+}

@@ -309,6 +309,47 @@ impl Session {
         Ok(())
     }
 
+    /// The first picture `vorang info` suggests, for front ends that render without maps
+    /// (`vorang view FILE`, Python): the `viridis` preset and an absorption ramp over the first
+    /// scalar field's range, χ rising to 4 / the bounding box's diagonal (the densest part then
+    /// lets about e⁻⁴ of the light through across the volume). Returns that χ_max — the
+    /// brightness at which opaque parts show the preset's colours — and a note saying what was
+    /// chosen; `None` (and no change) when no field varies.
+    pub fn use_preset_maps(&mut self, command: &str) -> Result<Option<(f64, Notice)>, String> {
+        let vol = self.need_volume(command)?;
+        let size = vol.mesh.bbox().size();
+        let diagonal = size.iter().map(|v| v * v).sum::<f64>().sqrt();
+        if !(diagonal > 0.0 && diagonal.is_finite()) {
+            return Ok(None);
+        }
+        let chi = 4.0 / diagonal;
+        let found = (0..vol.data.fields.len()).find_map(|i| match vol.field_range(i)?.as_slice() {
+            [(lo, hi)] if lo < hi && lo.is_finite() && hi.is_finite() => Some((i, *lo, *hi)),
+            _ => None,
+        });
+        let Some((i, lo, hi)) = found else {
+            return Ok(None);
+        };
+        let field = i.to_string();
+        let colormap = crate::mapping::preset_colormap("viridis", lo, hi, Some(&field))?;
+        let alphamap = crate::mapping::ramp_alphamap(lo, hi, chi, Some(&field))?;
+        self.check_maps(&colormap, &alphamap)?;
+        self.colormap = colormap;
+        self.alphamap = alphamap;
+        let name = vol.data.fields[i]
+            .name
+            .as_deref()
+            .map(|n| format!(" \"{n}\""))
+            .unwrap_or_default();
+        let note = Notice::Note(format!(
+            "{command}: no maps given: the viridis preset and an absorption ramp up to χ = {} over field {i}{name}, [{}, {}] (as 'vorang info' suggests)",
+            crate::info::num(chi),
+            crate::info::num(lo),
+            crate::info::num(hi)
+        ));
+        Ok(Some((chi, note)))
+    }
+
     /// `linedraw`: which grid edges are drawn (a field's values are checked against the volume).
     pub fn set_lines(&mut self, lines: LineDraw) -> Result<(), String> {
         if let (Some(vol), LineDraw::Cells { .. }) = (&self.volume, &lines) {
