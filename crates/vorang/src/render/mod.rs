@@ -380,7 +380,7 @@ pub fn render_watched(
         screen,
         background,
         line_depth,
-        entry_sign: faces::entry_sign(mirrored),
+        entry_sign: crate::predicates::entry_sign(mirrored),
         rank,
         span_kernels: settings.span_kernels,
     };

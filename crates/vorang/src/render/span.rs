@@ -1007,7 +1007,7 @@ mod tests {
     /// product and a sum, rounded twice) the same values to rounding.
     #[test]
     fn every_compiled_draw_gives_the_same_bits() {
-        use crate::render::faces::entry_sign;
+        use crate::predicates::entry_sign;
         let screen = [[3.2, 4.1], [40.7, 9.3], [20.2, 37.9], [18.4, 15.6]];
         let depth = [1.0, 1.3, 0.8, 2.1];
         let faces = CellFaces::new([0, 1, 2, 3], &screen, &depth, entry_sign(false), false);
