@@ -18,11 +18,11 @@
 //! in the last bits (≤ 10⁻¹⁴ in the tests); the thread count changes no bit on any of them.
 
 use super::cell::CellRays;
+use super::composite::{EARLY_TERMINATION, Order, composite};
 use super::faces::{CellFaces, DepthRow, Row, max_select};
 use super::gouraud::{self, Fan};
 use super::raster::{Rect, rasterize_convex_rows};
 use super::rows::CellRows;
-use super::{EARLY_TERMINATION, Order, composite};
 use crate::integrate::linear_lanes::{MAX_TERMS, madd, moments_with, terms_for};
 
 /// Pixels per batch: one AVX-512 register of f64, two AVX2 registers.
