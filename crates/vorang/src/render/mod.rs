@@ -26,18 +26,20 @@
 //!
 //! # Floor plan
 //!
-//! Every file imports only files below it in this list, never one that imports it back, and
-//! none imports from this one (it only declares the files and re-exports what callers use):
+//! Every file imports only files after it in this list (its tests included), never one that
+//! imports it back, and none imports from this one (it only declares the files and re-exports
+//! what callers use):
 //!
 //! - `schedule`: one frame — steps 1–4 above, the tiles in parallel, the statistics.
-//! - `tile`: one tile's cells (step 4), by whichever path suits each cell.
+//! - `settings`: what a render is asked for (size, method, order, lines, background, tiles).
+//! - `tile`: one tile's cells (step 4), each by whichever way of drawing it suits.
 //! - [`approx`]: the methods, per cell and per pixel; [`span`]: whole cells in SIMD lanes.
-//! - [`rows`], [`gouraud`], [`footprint`], [`runs`]: a footprint's rows, the screen-space fan,
-//!   the Shirley–Tuchman footprint, the per-pixel runs.
-//! - [`faces`], [`project`], [`raster`], [`cell`], [`lines`]: the watertight faces, the
-//!   projection classes, scan conversion, rays through one cell, grid lines.
-//! - `composite`, `settings`, [`frame`]: compositing, what a render is asked for, what a frame's
-//!   tiles share.
+//! - [`rows`], [`gouraud`]: a footprint's rows at once, the screen-space fan.
+//! - [`faces`], [`footprint`], [`runs`]: the watertight faces, the Shirley–Tuchman footprint,
+//!   the per-pixel runs.
+//! - [`project`], [`raster`], [`cell`], [`lines`]: the projection classes, scan conversion,
+//!   rays through one cell, grid lines.
+//! - `composite`, [`frame`]: compositing a contribution, what a frame's tiles share.
 //!
 //! Beneath them all, shared with the visibility sort: the exact screen predicates
 //! ([`crate::predicates`]).
