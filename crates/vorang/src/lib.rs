@@ -57,6 +57,7 @@ pub mod mapping;
 pub mod mesh;
 pub mod movie;
 pub mod numbers;
+pub mod predicates;
 pub mod reference;
 pub mod render;
 pub mod scene;

@@ -1,15 +1,17 @@
-//! The tetrahedral mesh (thesis 2.2.1.1, SPEC §7): node positions, positively oriented cells,
+//! The tetrahedral mesh (thesis 2.2.1.1): node positions, positively oriented cells,
 //! face adjacency (face `i` is opposite node `i`), boundary faces and bounding box.
 //!
 //! This is the structure every later stage traverses, so it is kept flat: three arrays indexed by
 //! node or cell, `u32` indices, no per-cell allocation.
 
 mod adjacency;
+mod convex;
 pub mod edges;
 pub mod generate;
 mod geometry;
 pub mod overlap;
 
+pub use convex::is_convex;
 pub use geometry::{Aabb, barycentric, barycentric_gradients, is_proper, orientation, tet_volume};
 
 /// Marks a face without a neighbouring cell (a boundary face).
@@ -259,7 +261,7 @@ impl TetMesh {
     /// Whether the mesh is convex (its boundary faces all bound one convex region), computed
     /// once.
     pub fn is_convex(&self) -> bool {
-        *self.convex.0.get_or_init(|| crate::sort::is_convex(self))
+        *self.convex.0.get_or_init(|| convex::is_convex(self))
     }
 
     pub fn node_count(&self) -> usize {

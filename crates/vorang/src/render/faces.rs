@@ -1,5 +1,5 @@
-//! Watertight ray intervals: a cell's per-pixel interval from its faces (DESIGN §8, "one number
-//! per face and pixel").
+//! Watertight ray intervals: a cell's per-pixel interval from its faces, one number per face and
+//! pixel (`docs/accuracy.md`, "Degenerate views").
 //!
 //! Each face of a cell projects to a screen triangle. Seen from the viewer the faces are either
 //! *entry* faces (the ray enters the cell through them), *exit* faces, or exactly edge-on (zero
@@ -20,40 +20,11 @@
 //! double-double arithmetic, so that even a ray running within 10⁻¹⁶ of a face plane finds a
 //! crossing consistent with its neighbours to ~10⁻¹⁶ of the face's depth range.
 
-use robust::{Coord, orient2d};
-
-use super::raster::{ROOT_ERROR, boundary};
 use crate::mesh::{EDGE_NODES, FACE_NODES};
-
-/// Whether a positively oriented polygon owns the points exactly on its edge `u → v` (top-left
-/// rule, y pointing down): a top edge runs towards +x, a left edge towards −y. Equivalent to
-/// testing the point moved by `(ε, ε²)`.
-#[inline]
-pub fn owns(u: [f64; 2], v: [f64; 2]) -> bool {
-    let (dx, dy) = (v[0] - u[0], v[1] - u[1]);
-    dy < 0.0 || (dy == 0.0 && dx > 0.0)
-}
-
-/// Exact: is `p` inside (left of, or on and owning) the directed edge `u → v` of a positively
-/// oriented polygon?
-#[inline]
-pub fn inside(u: [f64; 2], v: [f64; 2], p: [f64; 2]) -> bool {
-    let e = orient2d(coord(u), coord(v), coord(p));
-    e > 0.0 || (e == 0.0 && owns(u, v))
-}
-
-#[inline]
-fn coord(p: [f64; 2]) -> Coord<f64> {
-    Coord { x: p[0], y: p[1] }
-}
-
-/// Sign of the exact orientation of three screen points: +1 counter-clockwise (in a y-up frame),
-/// −1 clockwise, 0 collinear.
-#[inline]
-pub fn orient_sign(a: [f64; 2], b: [f64; 2], c: [f64; 2]) -> i8 {
-    let o = orient2d(coord(a), coord(b), coord(c));
-    (o > 0.0) as i8 - (o < 0.0) as i8
-}
+use crate::predicates::{ROOT_ERROR, boundary};
+/// The exact screen predicates live below the faces, the rasteriser and the sort, which all
+/// decide by them; re-exported where they were first defined.
+pub use crate::predicates::{entry_sign, inside, orient_sign, owns};
 
 /// The cell edge (index into [`EDGE_NODES`]) between local nodes u and v, either way round.
 pub const EDGE_OF: [[u8; 4]; 4] = {
@@ -143,7 +114,8 @@ pub struct FaceHit {
 impl CellFaces {
     /// `ids` the cell's node numbers, `screen` their screen positions, `depth` their depths
     /// (> 0 for perspective). `entry_sign` is the frame's constant: a face (in [`FACE_NODES`]
-    /// order) is an entry face where `entry_sign · orient2d > 0` (see [`entry_sign`]).
+    /// order) is an entry face where `entry_sign · orient2d > 0` (see [`entry_sign`]: the same
+    /// convention as the visibility sort's).
     pub fn new(
         ids: [u32; 4],
         screen: &[[f64; 2]; 4],
@@ -594,13 +566,6 @@ impl Row {
         }
         bits
     }
-}
-
-/// The frame's constant for [`CellFaces::new`]: cells are positively oriented in model space and
-/// [`FACE_NODES`] lists each face counter-clockwise seen from outside. Screen y points down, which
-/// turns orientations around; a transform with negative determinant (a mirror) turns them again.
-pub fn entry_sign(mirrored: bool) -> i8 {
-    if mirrored { 1 } else { -1 }
 }
 
 /// A double-double number `hi + lo`.

@@ -33,7 +33,7 @@ pub struct Frame<'a> {
     pub background: Backdrop,
     /// Depth of the nearest grid line per pixel (∞ where none); `None` when no line is drawn.
     pub line_depth: Option<Vec<f64>>,
-    /// Which screen orientation makes a face an entry face ([`super::faces::entry_sign`]).
+    /// Which screen orientation makes a face an entry face ([`crate::predicates::entry_sign`]).
     pub entry_sign: i8,
     /// Each cell's place in the compositing order (empty unless the order is settled per pixel).
     pub rank: Vec<u32>,

@@ -11,9 +11,8 @@
 //! largest. Orientation tests are exact (Shewchuk's predicates), so the class is decided
 //! consistently even for degenerate views.
 
-use super::faces::orient_sign as sign;
-
 use crate::mesh::orientation;
+use crate::predicates::orient_sign as sign;
 
 /// The projection class.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

@@ -9,7 +9,10 @@
 
 use robust::{Coord, orient2d};
 
-use super::faces::inside as exact_inside;
+/// The exact predicates and the half-line search live below the rasteriser, with the sort and
+/// the faces that share them; re-exported where they were first defined.
+pub use crate::predicates::{ROOT_ERROR, boundary};
+use crate::predicates::{floor, inside as exact_inside};
 
 /// A triangle on screen.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -244,8 +247,8 @@ impl<const N: usize> Convex<N> {
             let (mut from, mut to) = (x0, x1);
             for k in 0..N {
                 let e = &self.edges[k];
-                // The exact predicate decides (faces.rs): the same answer for every polygon
-                // with this edge, whatever rounding did to the edge function.
+                // The exact predicate decides (`crate::predicates`): the same answer for every
+                // polygon with this edge, whatever rounding did to the edge function.
                 let [u, v] = self.ends[k];
                 let test = |x: usize| exact_inside(u, v, [x as f64 + 0.5, py]);
                 let slope = -e.sign * e.d[1];
@@ -265,73 +268,6 @@ impl<const N: usize> Convex<N> {
             }
         }
     }
-}
-
-/// Where a half-line of pixels along a row ends: `test(x)` (pixel centre x + ½ inside an edge) is
-/// monotone in x — increasing for `slope > 0` (inside from the result on), decreasing for
-/// `slope < 0` (inside before the result), constant for `slope = 0` (the result is `x0` if
-/// inside, else `x1`). `root` estimates where the edge crosses the row; it is accurate to far
-/// below a pixel, so the two pixels around it settle the end unless a centre lies exactly on
-/// the edge, where ownership decides — then it walks. Where the root is known to be within
-/// `margin` of the exact crossing and no pixel centre is that close to it, the estimate is the
-/// answer without a test. Result in `x0..=x1`.
-#[inline]
-pub fn boundary(
-    test: impl Fn(usize) -> bool,
-    root: f64,
-    margin: f64,
-    slope: f64,
-    x0: usize,
-    x1: usize,
-) -> usize {
-    if slope == 0.0 || slope.is_nan() {
-        return if x0 < x1 && test(x0) { x0 } else { x1 };
-    }
-    let first = floor(root - 0.5) + 1.0;
-    if root.is_finite() && root - (first - 0.5) > margin && (first + 0.5) - root > margin {
-        // No centre within the margin: every centre's side is certain.
-        return first.clamp(x0 as f64, x1 as f64) as usize;
-    }
-    let mut x = if root.is_finite() {
-        first.clamp(x0 as f64, x1 as f64) as usize
-    } else if slope > 0.0 {
-        x0
-    } else {
-        x1
-    };
-    let before = x > x0 && test(x - 1);
-    let at = x < x1 && test(x);
-    if slope > 0.0 {
-        // Inside from some x on: find the first.
-        if before || !at {
-            while x > x0 && test(x - 1) {
-                x -= 1;
-            }
-            while x < x1 && !test(x) {
-                x += 1;
-            }
-        }
-    } else if !before || at {
-        // Inside up to some x: find the end (exclusive).
-        while x < x1 && test(x) {
-            x += 1;
-        }
-        while x > x0 && !test(x - 1) {
-            x -= 1;
-        }
-    }
-    x
-}
-
-/// Relative error bound used for root estimates: ~45 ulps, far above the few roundings in them.
-pub const ROOT_ERROR: f64 = 1e-14;
-
-/// `⌊x⌋` without a library call (the baseline x86-64 target has no rounding instruction);
-/// saturating for values beyond ±2⁶³, which the callers clamp anyway.
-#[inline]
-fn floor(x: f64) -> f64 {
-    let t = x as i64 as f64;
-    if t > x { t - 1.0 } else { t }
 }
 
 #[cfg(test)]

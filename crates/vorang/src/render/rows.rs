@@ -13,9 +13,10 @@
 
 #[cfg(doc)]
 use super::faces::CellFaces;
-use super::faces::{EDGE_OF, Row, inside, max_select, min_select};
-use super::raster::{ROOT_ERROR, Rect, boundary, pixel_box};
+use super::faces::{EDGE_OF, Row, max_select, min_select};
+use super::raster::{Rect, pixel_box};
 use crate::mesh::EDGE_NODES;
+use crate::predicates::{ROOT_ERROR, boundary, inside, orient_sign};
 
 /// Lanes: the six cell edges, padded.
 const EDGES: usize = 8;
@@ -102,7 +103,7 @@ impl CellRows {
         }
         // The outline's orientation, as the scan conversion takes it: an edge-on outline
         // covers nothing.
-        let o = super::faces::orient_sign(hull[0], hull[1], hull[2]);
+        let o = orient_sign(hull[0], hull[1], hull[2]);
         if o == 0 {
             return Some(rows);
         }
@@ -219,7 +220,8 @@ const TWO_52: f64 = 4_503_599_627_370_496.0;
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::render::faces::{CellFaces, entry_sign};
+    use crate::predicates::entry_sign;
+    use crate::render::faces::CellFaces;
     use crate::render::footprint::footprint;
     use crate::render::raster::rasterize_convex_rows;
     use crate::scene::{Camera, Projector};

@@ -1,4 +1,4 @@
-//! Visibility ordering of the cells (thesis 2.2.2.2, 5.2.1; SPEC §4).
+//! Visibility ordering of the cells (thesis 2.2.2.2, 5.2.1).
 //!
 //! Projected-tetrahedra compositing needs the cells back to front (or front to back). For a
 //! connected convex mesh MPVO (Williams 1992) orders them exactly: across every interior face
@@ -7,13 +7,14 @@
 //! MPVONC heuristic (the thesis's `VRxConcaveSort`); where it (or a broken cycle) leaves the
 //! order wrong along some ray, the renderer settles it per pixel ([`crate::render::runs`]), so
 //! the sort only has to be good, not exact. Faces are classified by the same exact screen
-//! predicate the renderer uses, and a mirroring transform flips them once. Each strategy is one
-//! entry in [`SORTS`].
+//! predicate the renderer uses ([`crate::predicates`]), and a mirroring transform flips them
+//! once. Each strategy is one entry in [`SORTS`].
 
-mod convex;
 mod mpvo;
 
-pub use convex::is_convex;
+/// Convexity is the mesh's own property ([`crate::mesh::is_convex`], cached by
+/// [`TetMesh::is_convex`]); it picks the sort ([`choose`]) and stays reachable here.
+pub use crate::mesh::is_convex;
 
 use crate::mesh::TetMesh;
 

@@ -7,7 +7,7 @@ use rayon::prelude::*;
 
 use super::{Order, SortInfo, SortInput};
 use crate::mesh::{FACE_NODES, NO_NEIGHBOR, orientation};
-use crate::render::faces::{entry_sign, orient_sign};
+use crate::predicates::{entry_sign, orient_sign};
 
 pub const MPVO: SortInfo = SortInfo {
     name: "mpvo",

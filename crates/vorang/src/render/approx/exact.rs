@@ -4,8 +4,8 @@
 //! integrated with the chosen rule. A step larger than the interval (or 0) integrates the
 //! whole interval at once.
 //!
-//! With the `linear` rule (SPEC §3 **Beyond**) the interval is also cut where the maps change
-//! slope (table values, category boundaries). Between cuts, for Linear fields, χ is linear and η
+//! With the `linear` rule (an addition to the thesis) the interval is also cut where the maps
+//! change slope (table values, category boundaries). Between cuts, for Linear fields, χ is linear and η
 //! linear or quadratic along the ray, which the rule integrates exactly — so `exact linear 0 B`
 //! is exact up to floating point. Where the field or map is not polynomial along the ray (e.g.
 //! GaussTest, BARY_SHADING 3), pieces are refined adaptively until halving no longer changes
@@ -14,11 +14,34 @@
 //! the cost of `exact constEA 0.0005` with the same error (docs/performance.md).
 
 use super::{Approx, Method, MethodInfo, Pixel, Scratch, accumulate, non_negative, rule};
+use crate::error::Error;
 use crate::integrate::{Contribution, RuleInfo, Segment};
 use crate::mapping::{Lines, Shape, Transfer1D};
 use crate::render::footprint::Footprint;
 use crate::render::frame::Frame;
-use crate::render::span::{Clip, MAX_PIECES, SpanCell, SpanGeometry, SpanPieces};
+use crate::render::span::{self, Clip, SpanCell, SpanGeometry, SpanPieces};
+
+/// The most pieces `exact` may cut one ray through the whole volume into.
+pub const MAX_PIECES: f64 = 1e6;
+
+/// Refuses an `exact` step so small that a ray through the volume would need more than
+/// [`MAX_PIECES`] pieces (the frame would take days and its cut lists terabytes): every cell
+/// interval is at most the diagonal of the transformed volume's bounding box. With the method,
+/// not the frame schedule, that asks for it: the limit is the method's own.
+pub(crate) fn check_step(step: f64, eye_nodes: &[[f64; 3]]) -> Result<(), Error> {
+    if step <= 0.0 {
+        return Ok(());
+    }
+    let size = crate::mesh::Aabb::of_points(eye_nodes).size();
+    let diagonal = (size[0] * size[0] + size[1] * size[1] + size[2] * size[2]).sqrt();
+    if diagonal / step > MAX_PIECES {
+        return Err(Error::Invalid(format!(
+            "method exact: a step of {step:e} would cut a ray through the volume (diagonal {diagonal:.3e}) into more than {MAX_PIECES:e} pieces; use a step of at least {:.3e}, or 0 for one piece per cell",
+            diagonal / MAX_PIECES
+        )));
+    }
+    Ok(())
+}
 
 pub const INFO: MethodInfo = MethodInfo {
     name: "exact",
@@ -108,7 +131,7 @@ impl Exact {
         let s = geometry.rays.affine(&v);
         // Along every ray the field must run one way through the pieces.
         let direction = geometry.rate_sign(&s);
-        if count > MAX_PIECES || (count > 1 && direction == 0) {
+        if count > span::MAX_PIECES || (count > 1 && direction == 0) {
             return None;
         }
         for (i, slot) in out.cells.iter_mut().take(count).enumerate() {
@@ -152,8 +175,8 @@ impl Exact {
     fn pieces(&self, px: &Pixel) -> (usize, f64) {
         let length = (px.far - px.near) * px.speed;
         let pieces = if self.step > 0.0 && length > self.step {
-            // Bounded by the check at the start of the render (`render::MAX_PIECES`).
-            (length / self.step).ceil().min(crate::render::MAX_PIECES) as usize
+            // Bounded by the check at the start of the render ([`check_step`]).
+            (length / self.step).ceil().min(MAX_PIECES) as usize
         } else {
             1
         };

@@ -1,4 +1,4 @@
-//! The approximation methods (thesis 6.3.1, SPEC §3), each one file and one entry in
+//! The approximation methods (thesis 6.3.1), each one file and one entry in
 //! [`METHODS`]. The tile loop is generic over [`Approx`]: the method is chosen once per frame and
 //! the per-pixel code is monomorphised for it.
 
@@ -7,7 +7,8 @@ mod interpolate_coeff;
 mod interpolate_color;
 mod test;
 
-pub use exact::Exact;
+pub(crate) use exact::check_step;
+pub use exact::{Exact, MAX_PIECES};
 pub use interpolate_coeff::InterpolateCoeff;
 pub use interpolate_color::InterpolateColor;
 pub use test::Test;

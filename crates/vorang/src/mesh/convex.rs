@@ -1,8 +1,13 @@
-//! Is a mesh a single convex body? Then MPVO alone orders it exactly.
+//! Is a mesh a single convex body? Then MPVO alone orders it exactly (thesis 5.2.1), and the
+//! renderer composites in the sort's order without per-pixel runs.
+//!
+//! A property of the mesh alone — its adjacency and its boundary, decided by the exact 3D
+//! orientation predicate — so it lives with the mesh and is cached there
+//! ([`TetMesh::is_convex`]); the visibility sort only reads it.
 
 use std::collections::HashMap;
 
-use crate::mesh::{TetMesh, orientation};
+use super::{TetMesh, orientation};
 
 /// True if the mesh is connected and its boundary is a closed surface that never folds inward
 /// (every boundary edge joins exactly two boundary faces at a convex or flat angle, decided by
