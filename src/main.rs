@@ -412,7 +412,8 @@ fn view(runner: &Runner, command: &Command) -> Result<(), String> {
     let (_, notices) = context.session.load_volume(file)?;
     context.report(notices);
     let mut brightness = 1.0;
-    if colormap.is_none() && alphamap.is_none()
+    if colormap.is_none()
+        && alphamap.is_none()
         && let Some((chi, note)) = context.session.use_preset_maps("view")?
     {
         brightness = chi;
