@@ -414,7 +414,7 @@ fn view(runner: &Runner, command: &Command) -> Result<(), String> {
     let mut brightness = 1.0;
     if colormap.is_none()
         && alphamap.is_none()
-        && let Some((chi, note)) = context.session.use_preset_maps("view")?
+        && let Some((chi, note)) = context.session.use_preset_maps("view", "viridis")?
     {
         brightness = chi;
         context.report([note]);

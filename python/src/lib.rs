@@ -453,6 +453,47 @@ fn load_alpha(arg: MapArg) -> PyResult<MapRead<AlphaMap>> {
     }
 }
 
+fn is_none(obj: Option<&Bound<'_, PyAny>>) -> bool {
+    obj.is_none_or(|o| o.is_none())
+}
+
+/// A colormap argument that names a built-in preset (`"viridis"`, `"magma"`, …) rather than a
+/// file or map text.
+fn preset_name(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<String>> {
+    let Some(s) = obj.and_then(|o| o.cast::<PyString>().ok()) else {
+        return Ok(None);
+    };
+    let s = s.to_string();
+    let known = vorang::mapping::PRESETS.iter().any(|p| p.name == s);
+    Ok((known && !Path::new(&s).exists()).then_some(s))
+}
+
+/// The method string, its last parameter (brightness, or `test`'s opacity) optional in Python:
+/// `"exact linear 0"` renders at `brightness` (the preset's χ_max when the preset maps are in
+/// use, so that opaque parts show its colours; else 1), `"test"` at opacity 0.5.
+fn parse_method(method: &str, brightness: f64) -> PyResult<Method> {
+    let mut words: Vec<String> = method.split_whitespace().map(str::to_string).collect();
+    let Some(name) = words.first() else {
+        return Err(PyValueError::new_err("method: empty method string"));
+    };
+    let name = match name.as_str() {
+        "interpolCoeff" => "interpolateCoeff",
+        "interpolColor" => "interpolateColor",
+        other => other,
+    };
+    if let Some(info) = vorang::render::approx::METHODS.iter().find(|m| m.name == name) {
+        let params: Vec<&str> = info.usage.split_whitespace().collect();
+        if words.len() == params.len() {
+            words.push(match params.last() {
+                Some(&"opacity") => "0.5".to_string(),
+                _ => format!("{brightness:?}"),
+            });
+        }
+    }
+    let words: Vec<&str> = words.iter().map(String::as_str).collect();
+    Method::parse(&words).map_err(|e| session_err(format!("method: {e}")))
+}
+
 /// A session's error message as the Python exception a user expects: a missing file is an
 /// `OSError`, everything else a `ValueError`.
 fn session_err(message: String) -> PyErr {
@@ -537,7 +578,7 @@ type Vec3 = [f64; 3];
 /// `(r, g, b, dx, dy, dz)` tuples, each an `addlight` (they shade `LIT_EMITTER` colormaps; none:
 /// one white light at the camera).
 #[pyfunction]
-#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="test 0.5", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="on", lights=Vec::new(), progress=None))]
+#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="exact linear 0", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="off", lights=Vec::new(), view_all=true, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -555,6 +596,7 @@ fn render<'py>(
     background: Option<&Bound<'py, PyAny>>,
     linedraw: &str,
     lights: Vec<[f64; 6]>,
+    view_all: bool,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let vol = Arc::clone(&volume.get().inner);
@@ -570,11 +612,18 @@ fn render<'py>(
     session
         .set_image_size(size.0, size.1)
         .map_err(session_err)?;
-    let words: Vec<&str> = method.split_whitespace().collect();
-    if words.is_empty() {
-        return Err(PyValueError::new_err("method: empty method string"));
+    // No maps (or a preset's name as the colormap): the first picture `vorang info` suggests.
+    let preset = preset_name(colormap)?;
+    let mut brightness = 1.0;
+    let use_preset = preset.is_some() || (is_none(colormap) && is_none(alphamap));
+    if use_preset
+        && let Some((chi, _)) = session
+            .use_preset_maps("render", preset.as_deref().unwrap_or("viridis"))
+            .map_err(session_err)?
+    {
+        brightness = chi;
     }
-    session.set_method(Method::parse(&words).map_err(|e| session_err(format!("method: {e}")))?);
+    session.set_method(parse_method(method, brightness)?);
     if let Some([fovy, aspect, near, far]) = persp {
         session
             .set_camera(Camera::Persp {
@@ -625,7 +674,11 @@ fn render<'py>(
             })
             .map_err(session_err)?;
     }
+    if view_all && persp.is_none() && ortho.is_none() {
+        session.view_all().map_err(session_err)?;
+    }
     let mut notices = Vec::new();
+    let colormap = if preset.is_some() { None } else { colormap };
     if let Some((map, w)) = load_color(map_arg(colormap, "colormap")?)? {
         session.set_colormap(map).map_err(session_err)?;
         notices.extend(w.iter().map(|w| Notice::Warning(w.to_string())));

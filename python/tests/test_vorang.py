@@ -108,8 +108,31 @@ SCENES = [
 ]
 
 
+def with_maps(kwargs, commands):
+    """A scene with the inclusion's maps, the test method and grid lines where it names none
+    (the Python defaults differ from the script's), and `view_all` where Python frames the
+    volume (no camera given)."""
+    kwargs, commands = dict(kwargs), list(commands)
+    if "colormap" not in kwargs:
+        kwargs["colormap"] = str(INCLUSION / "temperature.cmap")
+        kwargs["alphamap"] = str(INCLUSION / "material.amap")
+        commands += [
+            f"colormap {{{INCLUSION / 'temperature.cmap'}}}",
+            f"alphamap {{{INCLUSION / 'material.amap'}}}",
+        ]
+    if "method" not in kwargs:
+        kwargs["method"] = "test 0.5"
+    if "linedraw" not in kwargs:
+        kwargs["linedraw"] = "on"
+        commands.append("linedraw on")
+    if "persp" not in kwargs and "ortho" not in kwargs:
+        commands.append("view_all")
+    return kwargs, commands
+
+
 @pytest.mark.parametrize("kwargs,commands", SCENES)
 def test_render_equals_cli_pfm(tmp_path, kwargs, commands):
+    kwargs, commands = with_maps(kwargs, commands)
     vol = vorang.Volume.read(str(INCLUSION / "inclusion.vtu"))
     img = vorang.render(vol, **kwargs)
     w, h = kwargs["size"]
@@ -136,6 +159,8 @@ def test_table_maps_equal_cli(tmp_path):
             f"alphamap {{{tmp_path / 'a.amap'}}}",
             "imagesize 40 30",
             "method exact linear 0 1.0",
+            "linedraw off",
+            "view_all",
         ],
     )
     assert np.array_equal(img[:, :, :3], ref)
@@ -162,6 +187,7 @@ def test_lights_equal_cli(tmp_path):
         [
             f"colormap {{{tmp_path / 'lit.cmap'}}}",
             "imagesize 32 24",
+            "view_all",
             "method exact linear 0 1.0",
             "linedraw off",
             "addlight 1 0.9 0.8 1 1 1",
@@ -175,13 +201,15 @@ def test_lights_equal_cli(tmp_path):
 
 def test_save_and_run_script(tmp_path):
     vol = vorang.Volume.read(str(INCLUSION / "inclusion.vtu"))
-    img = vorang.render(vol, size=(20, 10))
+    cmap = INCLUSION / "temperature.cmap"
+    img = vorang.render(vol, size=(20, 10), colormap=str(cmap), method="test 0.5",
+                        linedraw="on", view_all=False)
     vorang.save(img, str(tmp_path / "x.pfm"))
     assert np.array_equal(read_pfm(tmp_path / "x.pfm"), img[:, :, :3])
     vorang.save(img, tmp_path / "x.png")
     assert (tmp_path / "x.png").stat().st_size > 0
     vorang.run_script(
-        f"volume {{{INCLUSION / 'inclusion.vtu'}}}\nimagesize 20 10\n"
+        f"volume {{{INCLUSION / 'inclusion.vtu'}}}\nimagesize 20 10\ncolormap {{{cmap}}}\n"
         f"output {{{tmp_path / 's.pfm'}}}\nrender_btf\n"
     )
     assert np.array_equal(read_pfm(tmp_path / "s.0001.pfm"), img[:, :, :3])
@@ -357,13 +385,119 @@ def test_from_pyvista():
     assert vol.n_tets == 2 and vol.field_names == ["t"]
 
 
+class _ImageData:
+    """What pyvista.ImageData (and RectilinearGrid, StructuredGrid) offers (duck-typed):
+    points x fastest, dimensions in points."""
+
+    def __init__(self, nx, ny, nz):
+        z, y, x = np.meshgrid(np.arange(nz), np.arange(ny), np.arange(nx), indexing="ij")
+        self.points = np.column_stack([x.ravel(), y.ravel(), z.ravel()]).astype(float)
+        self.dimensions = (nx, ny, nz)
+        self.point_data = {"x": self.points[:, 0].copy()}
+        self.cell_data = {"id": np.arange((nx - 1) * (ny - 1) * (nz - 1), dtype=np.int64)}
+
+
+class _Voxels:
+    """An UnstructuredGrid of voxels (VTK type 11: x fastest, then y, then z) with offsets."""
+
+    def __init__(self, image):
+        cells = vorang._structured_cells(image.dimensions)
+        self.points = image.points
+        self.celltypes = np.full(len(cells), 11, dtype=np.uint8)
+        self.cell_connectivity = cells[:, vorang._VOXEL_AS_HEX].ravel()
+        self.offset = np.arange(len(cells) + 1) * 8
+        self.point_data = image.point_data
+        self.cell_data = image.cell_data
+
+
+def test_from_pyvista_structured_and_voxels_render_as_hexahedra():
+    image = _ImageData(4, 3, 3)
+    a = vorang.Volume.from_pyvista(image)
+    assert a.n_points == 36 and a.n_tets == 3 * 2 * 2 * 6
+    assert a.field_names == ["x", "id"]
+    b = vorang.Volume.from_pyvista(_Voxels(image))
+    assert b.n_tets == a.n_tets
+    hexes = vorang.Volume._from_blocks(
+        image.points, [(12, vorang._structured_cells(image.dimensions))], image.point_data,
+        image.cell_data,
+    )
+    kw = dict(size=(32, 24), rotate=[(1, 1, 0, 30)])
+    ref = vorang.render(hexes, **kw)
+    assert np.array_equal(vorang.render(a, **kw), ref)
+    assert np.array_equal(vorang.render(b, **kw), ref)
+    # Cell data stays cell data, in VTK's cell order (grouping by type keeps it aligned).
+    mixed = _Grid()
+    mixed.celltypes = np.array([10, 5, 10], dtype=np.uint8)
+    mixed.cells = np.array([4, 0, 1, 2, 3, 3, 0, 1, 2, 4, 1, 2, 3, 4])
+    mixed.cell_data = {"c": np.array([7, 99, 8])}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        vol = vorang.Volume.from_pyvista(mixed)
+    assert vol.n_tets == 2
+
+
+def test_from_pyvista_messages_name_no_file():
+    flat = _ImageData(4, 3, 1)
+    with pytest.raises(ValueError, match="at least 2 points") as e:
+        vorang.Volume.from_pyvista(flat)
+    assert "this file" not in str(e.value)
+    surface = _Grid()
+    surface.celltypes = np.array([5], dtype=np.uint8)
+    surface.cells = np.array([3, 0, 1, 2])
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        with pytest.raises(ValueError, match="no volume cells") as e:
+            vorang.Volume.from_pyvista(surface)
+    assert "this file" not in str(e.value)
+
+
 def test_signature_defaults():
     import inspect
 
     sig = inspect.signature(vorang.render)
     assert sig.parameters["background"].default == "white"
-    assert sig.parameters["method"].default == "test 0.5"
+    assert sig.parameters["method"].default == "exact linear 0"
+    assert sig.parameters["linedraw"].default == "off"
+    assert sig.parameters["view_all"].default is True
     assert sig.parameters["rotate"].default == ()
+
+
+def test_defaults_give_a_first_picture():
+    """No maps, no camera, no method: the preset maps over the field's range, the exact
+    method at the ramp's χ_max, no grid lines, the volume framed undistorted — and nothing to
+    warn about."""
+    vol = vorang.Volume.read(str(INCLUSION / "inclusion.vtu"))
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        img = vorang.render(vol, size=(96, 60))
+    assert [str(w.message) for w in caught] == []
+    rgb = img[:, :, :3]
+    # Coloured, not a red slab and not black lines: the viridis table's blues and greens.
+    assert (np.abs(rgb - 1.0).sum(axis=2) > 0.05).mean() > 0.05
+    assert rgb[:, :, 1].max() > rgb[:, :, 0].max() * 0.5
+    # The preset by name is the default's table; another preset differs.
+    assert np.array_equal(vorang.render(vol, size=(96, 60), colormap="viridis"), img)
+    assert not np.array_equal(vorang.render(vol, size=(96, 60), colormap="magma"), img)
+    # Grid lines and the stretching default camera are one keyword away.
+    assert not np.array_equal(vorang.render(vol, size=(96, 60), linedraw="on"), img)
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        vorang.render(vol, size=(96, 60), view_all=False)
+    assert any("view_all" in str(w.message) for w in caught)
+    # The method's last parameter may be left out: 1 (here, the preset's χ_max) is used.
+    assert np.array_equal(vorang.render(vol, size=(96, 60), method="exact linear 0"), img)
+    one = vorang.render(
+        vol, size=(40, 30), colormap=str(INCLUSION / "temperature.cmap"), method="exact linear 0"
+    )
+    assert np.array_equal(
+        one,
+        vorang.render(
+            vol,
+            size=(40, 30),
+            colormap=str(INCLUSION / "temperature.cmap"),
+            method="exact linear 0 1",
+        ),
+    )
 
 
 def test_progress_and_interrupt():

@@ -31,7 +31,7 @@ def render(
     size=(512, 512),
     colormap=None,
     alphamap=None,
-    method="test 0.5",
+    method="exact linear 0",
     persp=None,
     ortho=None,
     look_at=None,
@@ -39,8 +39,9 @@ def render(
     scale=None,
     translate=None,
     background="white",
-    linedraw="on",
+    linedraw="off",
     lights=(),
+    view_all=True,
     progress=None,
 ):
     """Renders `volume` back to front; returns a float32 array of shape (h, w, 4).
@@ -48,16 +49,27 @@ def render(
     The first row is the top of the image. RGB is exactly what the PFM output of the equivalent
     script holds; the fourth channel is alpha (the volume's opacity 1 - T).
 
+    The defaults give a good first picture: without maps, the first picture `vorang info`
+    suggests (the viridis preset and an absorption ramp over the first scalar field's range,
+    χ rising to 4 / the bounding box's diagonal), the exact method, no grid lines, and the
+    volume framed undistorted.
+
     size: (w, h) (`imagesize`, default 512 x 512). colormap / alphamap: a map-file path, map
-    text (starting with "# VoRANG"), or a `Colormap` / `Alphamap`; None = the script's
-    defaults (constant red emission, constant absorption 2). method: the script's method
-    string, e.g. "exact linear 0 1.0". persp=(fovy, aspect, near, far) (`persp_camera`),
-    ortho=(l, r, b, t, front, back) (`ortho_camera`), look_at=(eye, ref, up) (`look_at`);
-    neither camera: the script's default camera. The volume transforms are applied like the
-    script commands in this order: `vol_scale scale`, `vol_rotate x y z degrees` for each of
-    `rotate` in order, `vol_translate translate`. background: "white" (= "clear"), "none"
-    (no background light, transparent), an (r, g, b) tuple or an image path (`background`).
-    linedraw: "on" (the script's default: all grid lines), "off", or "field {values}".
+    text (starting with "# VoRANG"), a `Colormap` / `Alphamap`, or for colormap a preset name
+    ("viridis", "magma", "inferno", "plasma", "cividis", "coolwarm", "grey": that table over
+    the first field's range, with the absorption ramp unless an alphamap is given); both None:
+    the viridis preset and the ramp. method: the script's method string, e.g. "exact linear 0
+    1.0"; its last parameter may be left out ("exact linear 0"): the brightness is then the
+    ramp's χ_max with the preset maps (opaque parts show the table's colours), else 1.
+    persp=(fovy, aspect, near, far) (`persp_camera`), ortho=(l, r, b, t, front, back)
+    (`ortho_camera`), look_at=(eye, ref, up) (`look_at`). view_all (default True): without
+    persp or ortho, frame the transformed volume with the image's aspect ratio (`view_all`);
+    False: the script's default camera (the grid's x/y extent stretched to the image). The
+    volume transforms are applied like the script commands in this order: `vol_scale scale`,
+    `vol_rotate x y z degrees` for each of `rotate` in order, `vol_translate translate`.
+    background: "white" (= "clear"), "none" (no background light, transparent), an (r, g, b)
+    tuple or an image path (`background`). linedraw: "off" (default), "on" (all grid lines,
+    the script's default), or "field {values}".
     lights: (r, g, b, dx, dy, dz) tuples, each an `addlight` (a light of that colour at infinity
     in direction (dx, dy, dz), world coordinates); they shade `LIT_EMITTER` colormaps. None
     given: one white light at the camera.
@@ -85,6 +97,7 @@ def render(
         background=background,
         linedraw=linedraw,
         lights=[tuple(l) for l in lights],
+        view_all=bool(view_all),
         progress=progress,
     )
 
@@ -123,23 +136,94 @@ def _from_meshio(mesh) -> Volume:
     )
 
 
-def _from_pyvista(grid) -> Volume:
-    """A Volume from a PyVista UnstructuredGrid (duck-typed: points, celltypes, cells in
-    the [n, i0, …, n, …] layout, point_data, cell_data). Mixed cells are split as the readers
-    split them."""
+# Nodes per cell of the VTK cell types with a fixed node count (the [n, ids…] cell layout can
+# then be cut without a Python loop).
+_FIXED_NODES = {1: 1, 3: 2, 5: 3, 9: 4, 10: 4, 11: 8, 12: 8, 13: 6, 14: 5, 24: 10}
+# VTK_VOXEL's node order (x fastest, then y, then z) as a hexahedron's (counter-clockwise).
+_VOXEL_AS_HEX = [0, 1, 3, 2, 4, 5, 7, 6]
+
+
+def _structured_cells(dims):
+    """Hexahedra of an nx × ny × nz point lattice (ImageData, RectilinearGrid, StructuredGrid:
+    points x fastest), in VTK's cell order, as a (cells, 8) index array."""
     import numpy as np
 
-    types = np.asarray(grid.celltypes)
-    cells = np.asarray(grid.cells)
+    nx, ny, nz = (int(d) for d in dims)
+    if min(nx, ny, nz) < 2:
+        raise ValueError(
+            f"from_pyvista: a structured grid of {nx} × {ny} × {nz} points has no volume cells "
+            "(each dimension needs at least 2 points)"
+        )
+    i, j, k = np.meshgrid(
+        np.arange(nx - 1), np.arange(ny - 1), np.arange(nz - 1), indexing="ij"
+    )
+    base = (i + nx * (j + ny * k)).transpose(2, 1, 0).reshape(-1)
+    dx, dy, dz = 1, nx, nx * ny
+    corners = np.array([0, dx, dx + dy, dy, dz, dx + dz, dx + dy + dz, dy + dz], dtype=np.int64)
+    return base[:, None].astype(np.int64) + corners[None, :]
+
+
+def _unstructured_blocks(grid):
+    """(blocks, order) of an UnstructuredGrid: one (VTK type, (k, n) connectivity) block per
+    cell type, and the permutation of the cells that groups them so (for the cell data)."""
+    import numpy as np
+
+    types = np.asarray(grid.celltypes).astype(np.int64)
+    if hasattr(grid, "offset") and hasattr(grid, "cell_connectivity"):
+        offsets = np.asarray(grid.offset).astype(np.int64)
+        conn = np.asarray(grid.cell_connectivity).astype(np.int64)
+        starts, counts = offsets[:-1], np.diff(offsets)
+    else:
+        cells = np.asarray(grid.cells).astype(np.int64)
+        lut = np.full(256, -1, dtype=np.int64)
+        for t, n in _FIXED_NODES.items():
+            lut[t] = n
+        counts = lut[types]
+        if (counts < 0).any():
+            raise ValueError(
+                "from_pyvista: cells of variable size need a grid with offset and "
+                "cell_connectivity (PyVista ≥ 0.36)"
+            )
+        starts = np.concatenate([[0], np.cumsum(counts + 1)[:-1]]) + 1
+        conn = cells
+    order = np.argsort(types, kind="stable")
     blocks = []
-    pos = 0
-    for ty in types.tolist():
-        n = int(cells[pos])
-        blocks.append((int(ty), cells[pos + 1 : pos + 1 + n].reshape(1, n)))
-        pos += 1 + n
+    for ty in np.unique(types):
+        pick = order[types[order] == ty]
+        n = np.unique(counts[pick])
+        if len(n) != 1:
+            raise ValueError(f"from_pyvista: cells of VTK type {int(ty)} have different sizes")
+        n = int(n[0])
+        block = conn[starts[pick][:, None] + np.arange(n)[None, :]]
+        ty = int(ty)
+        if ty == 11:  # VTK_VOXEL → hexahedron
+            block, ty = block[:, _VOXEL_AS_HEX], 12
+        blocks.append((ty, block))
+    return blocks, order
+
+
+def _from_pyvista(grid) -> Volume:
+    """A Volume from a PyVista grid (duck-typed, vectorised with numpy):
+    UnstructuredGrid (points, celltypes, cells / offset + cell_connectivity; hexahedra, voxels,
+    wedges, pyramids and quadratic tetrahedra split as the readers split them), and ImageData,
+    RectilinearGrid and StructuredGrid (their hexahedra). Point and cell data keep their names;
+    cell data stays cell data."""
+    import numpy as np
+
+    points = np.asarray(grid.points)
     point_data = {k: np.asarray(grid.point_data[k]) for k in grid.point_data.keys()}
     cell_data = {k: np.asarray(grid.cell_data[k]) for k in grid.cell_data.keys()}
-    return Volume._from_blocks(np.asarray(grid.points), blocks, point_data, cell_data)
+    if hasattr(grid, "celltypes"):
+        blocks, order = _unstructured_blocks(grid)
+        cell_data = {k: v[order] for k, v in cell_data.items()}
+    elif hasattr(grid, "dimensions"):
+        blocks = [(12, _structured_cells(grid.dimensions))]
+    else:
+        raise ValueError(
+            f"from_pyvista: expected a PyVista UnstructuredGrid, ImageData, RectilinearGrid or "
+            f"StructuredGrid, found {type(grid).__name__}"
+        )
+    return Volume._from_blocks(points, blocks, point_data, cell_data)
 
 
 def _rows(values, columns, what):

@@ -310,12 +310,16 @@ impl Session {
     }
 
     /// The first picture `vorang info` suggests, for front ends that render without maps
-    /// (`vorang view FILE`, Python): the `viridis` preset and an absorption ramp over the first
+    /// (`vorang view FILE`, Python): a colour preset (`viridis`) and an absorption ramp over the first
     /// scalar field's range, χ rising to 4 / the bounding box's diagonal (the densest part then
     /// lets about e⁻⁴ of the light through across the volume). Returns that χ_max — the
     /// brightness at which opaque parts show the preset's colours — and a note saying what was
     /// chosen; `None` (and no change) when no field varies.
-    pub fn use_preset_maps(&mut self, command: &str) -> Result<Option<(f64, Notice)>, String> {
+    pub fn use_preset_maps(
+        &mut self,
+        command: &str,
+        preset: &str,
+    ) -> Result<Option<(f64, Notice)>, String> {
         let vol = self.need_volume(command)?;
         let size = vol.mesh.bbox().size();
         let diagonal = size.iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -331,7 +335,7 @@ impl Session {
             return Ok(None);
         };
         let field = i.to_string();
-        let colormap = crate::mapping::preset_colormap("viridis", lo, hi, Some(&field))?;
+        let colormap = crate::mapping::preset_colormap(preset, lo, hi, Some(&field))?;
         let alphamap = crate::mapping::ramp_alphamap(lo, hi, chi, Some(&field))?;
         self.check_maps(&colormap, &alphamap)?;
         self.colormap = colormap;
@@ -342,7 +346,7 @@ impl Session {
             .map(|n| format!(" \"{n}\""))
             .unwrap_or_default();
         let note = Notice::Note(format!(
-            "{command}: no maps given: the viridis preset and an absorption ramp up to χ = {} over field {i}{name}, [{}, {}] (as 'vorang info' suggests)",
+            "{command}: no maps given: the {preset} preset and an absorption ramp up to χ = {} over field {i}{name}, [{}, {}] (as 'vorang info' suggests)",
             crate::info::num(chi),
             crate::info::num(lo),
             crate::info::num(hi)

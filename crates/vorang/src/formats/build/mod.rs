@@ -92,7 +92,7 @@ pub fn volume(mut desc: MeshDescription) -> Result<(Volume, Vec<Warning>), Parse
     if tets.is_empty() {
         return Err(err(
             cells_line,
-            "this file has no volume cells (tetrahedra, hexahedra, wedges, pyramids or quadratic tetrahedra): nothing to render".into(),
+            "no volume cells (tetrahedra, hexahedra, wedges, pyramids or quadratic tetrahedra): nothing to render".into(),
         ));
     }
     let mesh = tet_mesh(
