@@ -62,7 +62,7 @@ def python_warnings(volume, **kwargs):
         warnings.simplefilter("always")
         vol = vorang.Volume.read(str(volume))
         caught.clear()  # the reader's own warnings are not the render's
-        vorang.render(vol, **kwargs)
+        vorang.render(vol, view_all=False, **kwargs)
     return [without_command(str(w.message)) for w in caught]
 
 

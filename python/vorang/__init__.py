@@ -169,6 +169,22 @@ def _unstructured_blocks(grid):
     import numpy as np
 
     types = np.asarray(grid.celltypes).astype(np.int64)
+    kinds = np.unique(types)
+    if len(kinds) == 1 and int(kinds[0]) in _FIXED_NODES:
+        # One cell type (the common case): the connectivity is a plain (cells, n) array.
+        ty, n = int(kinds[0]), _FIXED_NODES[int(kinds[0])]
+        if hasattr(grid, "cell_connectivity"):
+            block = np.asarray(grid.cell_connectivity).reshape(-1, n)
+        else:
+            rows = np.asarray(grid.cells).reshape(-1, n + 1)
+            if not (rows[:, 0] == n).all():
+                raise ValueError(
+                    f"from_pyvista: cells of VTK type {ty} must have {n} points each"
+                )
+            block = rows[:, 1:]
+        if ty == 11:  # VTK_VOXEL → hexahedron
+            block, ty = block[:, _VOXEL_AS_HEX], 12
+        return [(ty, block)], np.arange(len(types))
     if hasattr(grid, "offset") and hasattr(grid, "cell_connectivity"):
         offsets = np.asarray(grid.offset).astype(np.int64)
         conn = np.asarray(grid.cell_connectivity).astype(np.int64)
