@@ -1,4 +1,4 @@
-//! Error control on a field that is not polynomial in the cells (issue 11, item 6): the gauss
+//! Error control on a field that is not polynomial in the cells: the gauss
 //! example scene (GaussTest field, thesis 7) rendered with `exact linear 0` and with `exact` and
 //! the thesis's rules at several steps, each compared with the independent reference renderer
 //! (`crates/vorang/src/reference.rs`), with the render time.

@@ -1,4 +1,4 @@
-//! The build's Tcl version check (issue 16, item 8): Tcl 8.6 is used, Tcl 9 (whose C API
+//! The build's Tcl version check: Tcl 8.6 is used, Tcl 9 (whose C API
 //! differs) and older versions are refused with a message that says what to install.
 
 #[path = "../crates/vorang-tcl/build/tcl_check.rs"]

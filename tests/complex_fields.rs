@@ -1,4 +1,4 @@
-//! Complex fields mapped through their real part, imaginary part or modulus (issue 15 item 5):
+//! Complex fields mapped through their real part, imaginary part or modulus:
 //! rendered with `exact` and compared with an independent computation in this file (the ray's
 //! interval in each cell from its barycentric coordinates, the tables interpolated here, the
 //! transport equation integrated by Runge–Kutta, or its closed form for constant cells).

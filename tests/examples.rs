@@ -99,7 +99,7 @@ fn generated_data_sets_read_as_their_generators_wrote_them() {
                 "nodes" => assert_eq!(m.node_count(), w[1].parse::<usize>().unwrap(), "{at}"),
                 "tetrahedra" => {
                     assert_eq!(m.tet_count(), w[1].parse::<usize>().unwrap(), "{at}");
-                    // The writer orients every cell right-handed (SPEC §7).
+                    // The writer orients every cell right-handed (thesis appendix B, docs/formats.md).
                     assert_eq!(m.reoriented(), 0, "{at}");
                 }
                 "volume" => {

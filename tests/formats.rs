@@ -1,4 +1,4 @@
-//! Mesh file formats (issue 12): the same mesh and fields from HyperMesh, every `.vtu`
+//! Mesh file formats: the same mesh and fields from HyperMesh, every `.vtu`
 //! encoding, legacy `.vtk` and Gmsh `.msh` render bit-identical images; mixed cells split
 //! conformingly; fields by name in map files; `.vtu` writing round-trips; bad inputs fail with
 //! a located message and leave the loaded volume alone.

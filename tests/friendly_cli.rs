@@ -1,4 +1,4 @@
-//! The friendlier program (issue 16, item 7, in part): `vorang -e 'help …'` and a piped
+//! The friendlier program (in part): `vorang -e 'help …'` and a piped
 //! `help …` print the help; an unknown command names the nearest known one.
 
 use std::io::Write;

@@ -1,4 +1,4 @@
-//! `legend on|off ?position?` (issue 16, item 4): the bar's pixels in the written image are the
+//! `legend on|off ?position?`: the bar's pixels in the written image are the
 //! colormap's colours at the values they stand for, at every position; `legend off` leaves
 //! the image as it was.
 

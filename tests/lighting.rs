@@ -1,4 +1,4 @@
-//! `LIT_EMITTER` and the lights (issue 15 item 3 **Decision**) against hand-computed answers:
+//! `LIT_EMITTER` and the lights against hand-computed answers:
 //! a slab whose Linear field rises along x, lit along and across its gradient, so that the
 //! emission is one constant per cell and the pixel follows the closed form of a homogeneous
 //! slab, I = I0·θ + η/χ·(1 − θ) with θ = e^{−χl}.

@@ -463,7 +463,7 @@ fn every_bad_map_file_fails_at_the_stated_line() {
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
-/// IDENTITY of a vector field with negative components (issue 15, item 5): the emission is
+/// IDENTITY of a vector field with negative components: the emission is
 /// clamped to 0 and each render warns once, with the count; a field without negative values
 /// gives no warning.
 #[test]

@@ -1,4 +1,4 @@
-//! `movie FILE ?fps?` … `movie close` (issue 16, item 5): animated GIF and APNG written
+//! `movie FILE ?fps?` … `movie close`: animated GIF and APNG written
 //! natively and decoded back frame by frame; mp4 without ffmpeg is a clear error.
 
 use std::io::BufReader;

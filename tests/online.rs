@@ -1,4 +1,4 @@
-//! `render_btf online` / `render_ftb online` (issue 14 **Decision**): a window titled VoRANG
+//! `render_btf online` / `render_ftb online`: a window titled VoRANG
 //! shows the image 1:1 — a screenshot of it equals the written 8-bit file — is reused by the
 //! next online render, and without a display there is one warning and the file.
 

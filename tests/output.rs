@@ -31,7 +31,7 @@ fn expect8(v: f32) -> u8 {
     (v.clamp(0.0, 1.0) * 255.0).round() as u8
 }
 
-/// What a file with alpha must hold for a pixel (SPEC §6, issue 16 **Decision**): opaque RGB as
+/// What a file with alpha must hold for a pixel (docs/scripts.md): opaque RGB as
 /// the framebuffer shows it; after `background none`, straight alpha.
 fn shown(p: &[f32; 4], transparent: bool) -> [f32; 4] {
     if !transparent {
@@ -213,7 +213,7 @@ fn image_numbers_start_at_0001() {
     );
 }
 
-/// Issue 16 **Decision**, end to end: a volume that glows without absorbing (where the scalar is
+/// , end to end: a volume that glows without absorbing (where the scalar is
 /// 0, `examples/selfMade`) over a black background. By default the PNG is opaque and shows what
 /// the framebuffer (and the PFM) shows; with `background none` its alpha is the volume's opacity
 /// and its colour the emitted light divided by it.

@@ -1,4 +1,4 @@
-//! `colormap preset NAME lo hi` and `alphamap ramp lo hi chi_max` (issue 16, item 6): the
+//! `colormap preset NAME lo hi` and `alphamap ramp lo hi chi_max`: the
 //! published tables at their knots, the ramp, the messages, and a first picture without map
 //! files.
 

@@ -1,4 +1,4 @@
-//! The interactive prompt in a pseudo-terminal (issue 16, item 7): tab completes command names
+//! The interactive prompt in a pseudo-terminal: tab completes command names
 //! and file names, and a mistyped command names the nearest one.
 #![cfg(unix)]
 

@@ -1,4 +1,4 @@
-//! `view_all` (issue 16 **Decision**): the whole transformed volume fits the image with the
+//! `view_all`: the whole transformed volume fits the image with the
 //! margin, touching it, for orthographic and perspective cameras, keeping the viewing direction.
 
 use vorang::Volume;

@@ -1,4 +1,4 @@
-//! The interactive viewer (issue 14), driven by synthetic Tk events under Xvfb: a drag turns
+//! The interactive viewer, driven by synthetic Tk events under Xvfb: a drag turns
 //! the volume, the wheel zooms, shift-drag pans, `+` brightens; `p` prints commands and `s`
 //! saves an image, and the printed commands render exactly the saved image.
 

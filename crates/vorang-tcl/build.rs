@@ -1,4 +1,4 @@
-//! Links the Tcl 8.6 library (DESIGN §3a: the script language is real Tcl), found with
+//! Links the Tcl 8.6 library (docs/architecture.md: the script language is real Tcl), found with
 //! pkg-config. On Debian/Ubuntu: `apt-get install tcl-dev`; on macOS: `brew install tcl-tk@8`.
 //!
 //! Tcl 9 changed its C API (`Tcl_Size` lengths, removed functions), which VoRANG's bindings do not

@@ -1,4 +1,4 @@
-//! A virtual X display for the window tests (issue 14): Xvfb, started per test, and
+//! A virtual X display for the window tests: Xvfb, started per test, and
 //! screenshots read back from `xwd` files. CI installs both (`.ci/run`); where they are missing
 //! the tests say so and skip.
 

@@ -1,4 +1,4 @@
-# The thesis's spellings (issue 15, item 5): the short method names interpolCoeff and
+# The thesis's spellings: the short method names interpolCoeff and
 # interpolColor, and value lists with commas, `linedraw field {0, 7}`. Each renders the same
 # image as the long form.
 proc bytes {f} {

@@ -1,4 +1,4 @@
-//! A minimal safe wrapper over the Tcl 8.6 C API (DESIGN §3a): an interpreter that owns its
+//! A minimal safe wrapper over the Tcl 8.6 C API (docs/architecture.md): an interpreter that owns its
 //! registered commands, evaluation of strings and files, results, variables and list splitting.
 //!
 //! Only the dozen calls VoRANG needs are declared. Every `unsafe` block states why it is sound;

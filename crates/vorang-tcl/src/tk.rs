@@ -1,4 +1,4 @@
-//! Tk for the `online` window and the viewer (issue 14), loaded into the interpreter on first
+//! Tk for the `online` window and the viewer, loaded into the interpreter on first
 //! use with `package require Tk`: scripts that never show a window need neither a display nor
 //! the Tk library, and Tk is found the way Tcl finds any package (its `pkgIndex.tcl`), so
 //! building VoRANG does not need Tk at all.

@@ -1,7 +1,7 @@
 //! Typed errors with source locations.
 //!
 //! Every problem found in an input file is reported as `file:line: what was expected, what was
-//! found` (SPEC §7, "where an error is reported"), so that a user can jump straight to the line.
+//! found` (thesis appendix B, docs/formats.md, "where an error is reported"), so that a user can jump straight to the line.
 //! Library code never prints and never panics on bad input; it returns these values and the
 //! binary decides how to show them.
 

@@ -192,7 +192,7 @@ fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {
 }
 
 /// A ready-to-paste first picture of scalar field `i` (a number, or a complex field's part
-/// such as `abs(2)`) over its range `[lo, hi]` (issue 16):
+/// such as `abs(2)`) over its range `[lo, hi]`:
 /// the viridis preset over the range and an absorption ramp up to χ = 4 / the bounding box's
 /// diagonal (the densest part then lets through about e^-4 of the light across the volume),
 /// with the brightness factor χ_max, so that opaque parts show the preset's colours, and no grid

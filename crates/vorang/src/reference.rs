@@ -2,11 +2,11 @@
 //! brute-force ray caster in f64.
 //!
 //! Every pixel ray is intersected with every cell; the intervals are sorted by depth and each is
-//! integrated by adaptive Gauss–Legendre quadrature of the optical model of SPEC §2 — the
+//! integrated by adaptive Gauss–Legendre quadrature of the optical model of docs/optics.md — the
 //! optical depth by an inner quadrature at every outer node — to a tolerance near machine
 //! precision. It shares no code with the projection renderer except the mesh, the fields and the
 //! maps: transforms, camera rays and ray–cell intersection are written again here (with 4×4
-//! homogeneous matrices and Cramer's rule) from the conventions of SPEC §5. Only for tiny meshes
+//! homogeneous matrices and Cramer's rule) from the conventions of docs/camera.md. Only for tiny meshes
 //! and images: the cost is pixels × cells.
 
 use rayon::prelude::*;
@@ -76,7 +76,7 @@ fn rotate(axis: [f64; 3], deg: f64) -> M4 {
     m
 }
 
-/// File → world, following SPEC §5 literally: centre, then each operation; a rotation is about
+/// File → world, following docs/camera.md literally: centre, then each operation; a rotation is about
 /// the image of the file's bounding-box centre under everything before it.
 fn model(view: &View, centre: [f64; 3]) -> M4 {
     let mut m = translate(centre.map(|c| -c));
@@ -267,7 +267,7 @@ pub fn render(vol: &Volume, mapping: &Mapping, view: &View, opts: &Options) -> V
             .pixels(width, height)
             .expect("the reference renders small images"),
     );
-    // Eye-space ray of a pixel per SPEC §5, and its depth range.
+    // Eye-space ray of a pixel per docs/camera.md, and its depth range.
     let eye_ray = |i: usize, j: usize| -> ([f64; 3], [f64; 3], f64, f64) {
         let (u, v) = (
             (i as f64 + 0.5) / width as f64,

@@ -1,4 +1,4 @@
-//! Windows on the screen (issue 14): the thesis's `online` display, which shows a render
+//! Windows on the screen: the thesis's `online` display, which shows a render
 //! growing tile by tile ([`online`]), and the interactive viewer ([`viewer`]).
 //!
 //! Tk is single-threaded, so every Tk call stays on the thread that runs the Tcl interpreter;

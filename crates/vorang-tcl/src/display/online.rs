@@ -1,4 +1,4 @@
-//! `render_btf online` (thesis A.1; issue 14 **Decision**): the render runs on a thread of its
+//! `render_btf online` (thesis A.1): the render runs on a thread of its
 //! own while the Tcl thread puts each finished tile into the window and keeps Tk's events
 //! flowing, so the picture grows as it renders and the window stays responsive.
 

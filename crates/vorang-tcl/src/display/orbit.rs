@@ -1,4 +1,4 @@
-//! The viewer's camera (issue 14): what dragging, the wheel and shift-dragging do to the view,
+//! The viewer's camera: what dragging, the wheel and shift-dragging do to the view,
 //! kept as plain numbers so that the view is always an ordinary [`View`] — the one the script
 //! commands printed by `p` build again, bit for bit.
 //!

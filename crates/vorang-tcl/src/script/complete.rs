@@ -1,4 +1,4 @@
-//! Tab completion at the prompt (issue 16, item 7): command names where a command starts (the
+//! Tab completion at the prompt: command names where a command starts (the
 //! line's first word, or after `;`, `[` or `{`), file names elsewhere (the prompt falls back to
 //! rustyline's file name completer).
 

@@ -1,4 +1,4 @@
-//! Ctrl-C at the prompt (issue 16, item 7): during a render it cancels that render (the
+//! Ctrl-C at the prompt: during a render it cancels that render (the
 //! command fails with "the render was cancelled" and the session goes on); anywhere else it
 //! ends the program as usual, so that a runaway Tcl loop can still be stopped.
 //!

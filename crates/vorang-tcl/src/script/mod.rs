@@ -116,7 +116,7 @@ proc ::vorang::proc_defined {cmd op} {
     set ::vorang::procline([namespace tail [lindex $cmd 1]]) [list [dict get $f file] [expr {[dict get $f line] + $skip}]]
 }
 trace add execution proc enter ::vorang::proc_defined
-# Paths in a script are relative to its folder (SPEC §9), for `source` too.
+# Paths in a script are relative to its folder (docs/scripts.md), for `source` too.
 rename ::source ::vorang::tcl_source
 proc ::source {args} {
     set path [lindex $args end]

@@ -1,4 +1,4 @@
-//! "Did you mean …?" for unknown commands (issue 16, item 7): the known command nearest to a
+//! "Did you mean …?" for unknown commands: the known command nearest to a
 //! mistyped name by edit distance (insertions, deletions, substitutions and swaps of two
 //! neighbouring letters each count 1).
 

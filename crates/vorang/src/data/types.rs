@@ -1,4 +1,4 @@
-//! The data types of HyperMesh files (thesis B.2, SPEC §7): scalar types, arrays of them, and
+//! The data types of HyperMesh files (thesis B.2; docs/formats.md): scalar types, arrays of them, and
 //! typed storage for the values of a block.
 
 use std::fmt;

@@ -1,7 +1,7 @@
-//! `EdgeElem(@edgedata)`: lowest-order Whitney (Nédélec) edge elements (SPEC §7):
+//! `EdgeElem(@edgedata)`: lowest-order Whitney (Nédélec) edge elements (thesis appendix B, docs/formats.md):
 //! `E = Σ_e u_e (λ_a ∇λ_b − λ_b ∇λ_a)` over the cell's six edges, each edge directed
 //! `a → b` as its `FromTo` row says. Complex edge values give a complex field; the field's value
-//! is its real part (SPEC **Decision**), the imaginary part is used by `EdgeElemSAR`.
+//! is its real part (docs/formats.md), the imaginary part is used by `EdgeElemSAR`.
 
 use super::Support;
 use super::{InterpolatorInfo, Sources, scalar_edge_values};

@@ -1,5 +1,5 @@
 //! `EdgeElemSAR(@edgedata, @tetmaterials)`: the specific absorption rate `½·σ·|E|²/ρ` of an
-//! edge-element field `E` (SPEC §7), with `σ` (`sigma`) and `ρ` (`rho`, 1 if absent) taken
+//! edge-element field `E` (thesis appendix B, docs/formats.md), with `σ` (`sigma`) and `ρ` (`rho`, 1 if absent) taken
 //! from the cell's material; for complex `E`, `|E|² = |Re E|² + |Im E|²`.
 
 use super::Support;

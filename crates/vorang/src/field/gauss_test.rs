@@ -1,6 +1,6 @@
 //! `GaussTest(@extradata float[5])`: an analytic test field independent of the mesh (thesis
 //! B.2): `f(x) = Σ a·exp(−|x−c|²/ρ²)` over the rows `(cx, cy, cz, ρ, a)`, evaluated in the file's
-//! own coordinates (SPEC §7 **Decision**).
+//! own coordinates (thesis appendix B, docs/formats.md).
 
 use super::{InterpolatorInfo, Sources};
 use crate::data::{ElementKind, RawData};

@@ -1,6 +1,6 @@
 //! `HigherOrder(@nodedata, @edgedata[, @tetdata])`: quadratic (P2) Lagrange interpolation from
 //! node values and edge-midpoint values, plus an optional cell bubble `256·b·λ0λ1λ2λ3`
-//! (SPEC §7 **Decision**).
+//! (thesis appendix B, docs/formats.md).
 
 use super::Support;
 use super::{InterpolatorInfo, Sources, same_shape};

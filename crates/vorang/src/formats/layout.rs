@@ -7,7 +7,7 @@
 //! data blocks are point arrays, cell data blocks are cell arrays (named after the field that
 //! uses them), and what VTK has no place for per point or cell — edges, triangles, edge,
 //! triangle and extra data — are `<FieldData>` arrays whose names start with `VoRANG_`. One more
-//! FieldData array, `VoRANG_HyperMesh` (UInt8: UTF-8 text), holds a HyperMesh header (SPEC §7)
+//! FieldData array, `VoRANG_HyperMesh` (UInt8: UTF-8 text), holds a HyperMesh header (thesis appendix B, docs/formats.md)
 //! that declares all of it, its markers naming the arrays:
 //!
 //! ```text

@@ -6,7 +6,7 @@
 //!
 //! HyperMesh, the thesis's own format, keeps its dedicated reader ([`crate::formats::hypermesh`]): it
 //! carries more than a description can (edges, triangles, materials, edge-element and
-//! analytic fields, denominators), and its behaviour and messages are fixed by SPEC §7. The
+//! analytic fields, denominators), and its behaviour and messages are fixed by the thesis (appendix B) and docs/formats.md. The
 //! registry lists it so that detection and "expected one of" messages cover every format.
 //!
 //! Format detection looks at the content first (`<VTKFile` for VTK XML, `# vtk DataFile` for

@@ -1,4 +1,4 @@
-//! The float RGBA framebuffer (thesis 4.2, SPEC §6): no 8-bit quantisation while compositing;
+//! The float RGBA framebuffer (thesis 4.2, docs/scripts.md): no 8-bit quantisation while compositing;
 //! values may exceed 1 (the brightness factor is tuned by the largest channel reported after
 //! each render) and are clipped only when written to an 8-bit format.
 
@@ -56,7 +56,7 @@ impl Framebuffer {
         self.pixels[y * self.width + x]
     }
 
-    /// What a file with an alpha channel holds for pixel `p` (SPEC §6 **Decision**, issue 16):
+    /// What a file with an alpha channel holds for pixel `p` (docs/scripts.md):
     /// by default what the framebuffer shows — RGB composited over the background, opaque
     /// (alpha 1). Rendered with `background none` (no background light), straight alpha:
     /// alpha = the volume's opacity 1 − T and RGB = the emitted light divided by it (0 where

@@ -1,4 +1,4 @@
-//! Image files: the format follows the extension (SPEC §6 **Decision**). 8-bit formats clip
+//! Image files: the format follows the extension (docs/scripts.md). 8-bit formats clip
 //! to [0, 1]; `exr`, `pfm` and `hdr` keep the floats. Formats with an alpha channel are opaque
 //! (alpha 1: the picture composited over the background, as the framebuffer shows it); after a
 //! render with `background none` they hold alpha = 1 − total transparency, straight in the 8-bit
@@ -376,7 +376,7 @@ pub fn format_for(path: &Path) -> Result<&'static FormatInfo, Error> {
         })
 }
 
-/// `base.ext` with image number `nr` → `base.0001.ext` (SPEC §6: the first image is 0001).
+/// `base.ext` with image number `nr` → `base.0001.ext` (docs/scripts.md: the first image is 0001).
 pub fn numbered(base: &Path, nr: u32) -> PathBuf {
     let stem = base
         .file_stem()

@@ -1,6 +1,6 @@
 //! `constEA`: η and χ taken constant at their means, `b = η̄·(1−θ)/χ̄` (thesis 6.3.2, eq. 2.12).
 //! Exact when η and χ are proportional along the segment. For `χ̄·Δs → 0` the limit
-//! `b → η̄·Δs` is used (SPEC §2 **Decision**).
+//! `b → η̄·Δs` is used (docs/optics.md).
 
 use super::{Contribution, RuleInfo, Segment, one_minus_exp_over, theta_trapezoid};
 

@@ -1,5 +1,5 @@
 //! `linear`: the exact segment integral for η and χ varying linearly along the segment
-//! (thesis 6.3.3, derived there but never implemented; SPEC §2 **Beyond**), and for η varying
+//! (thesis 6.3.3, derived there but never implemented; docs/optics.md: beyond the thesis), and for η varying
 //! quadratically (ABSORPTION_WEIGHTED: a linear table times a linear χ).
 //!
 //! With `w ∈ [0, 1]` running from the near end (w = 0) to the far end, `c = χ_near·Δs`,

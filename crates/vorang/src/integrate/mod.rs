@@ -1,4 +1,4 @@
-//! Integration rules for one ray segment (thesis 6.3.2, SPEC §2): the segment transparency
+//! Integration rules for one ray segment (thesis 6.3.2, docs/optics.md): the segment transparency
 //! `θ = exp(−∫χ)` and intensity `b = ∫ η(s)·exp(−∫_s^{s_k} χ) ds` from the values of η and χ at
 //! the segment's ends. `s_{k−1}` (index 0) is the far end, `s_k` (index 1) the near end.
 //!
@@ -95,8 +95,8 @@ pub fn theta_trapezoid(s: &Segment) -> f64 {
 /// `(1 − e^{−x})/x`, accurate for every `x ≥ 0` including `x → 0` (where it tends to 1).
 ///
 /// For tiny `x` the quotient is evaluated by its series, not as `0/0` — the thesis replaced χ
-/// by 1e-7 there, which wrongly gives zero emission in absorption-free regions (SPEC §2
-/// **Decision**).
+/// by 1e-7 there, which wrongly gives zero emission in absorption-free regions
+/// (docs/optics.md).
 #[inline]
 pub fn one_minus_exp_over(x: f64) -> f64 {
     if x.abs() < 1e-5 {

@@ -1,4 +1,4 @@
-//! The colour legend (`legend on|off ?position?`, issue 16 item 4): the colour transfer function
+//! The colour legend (`legend on|off ?position?`): the colour transfer function
 //! drawn as a bar with its range and a few labelled values, into the framebuffer after the
 //! render — so every output format, and every movie frame, carries it.
 //!

@@ -1,4 +1,4 @@
-//! Colour and alpha mapping (thesis 6.2 and appendix C, SPEC §8): how data values become the
+//! Colour and alpha mapping (thesis 6.2 and appendix C; docs/formats.md): how data values become the
 //! emission η (RGB) and the absorption χ of the optical model.
 //!
 //! A map file names the visualised field (`DataField`), optionally a `CategoryField` that picks
@@ -233,7 +233,7 @@ impl Interval {
 
 /// How a map file names a field: by number (`DataField 2`, `field:2`) or by its name in
 /// double quotes (`DataField "temperature"`, `field:"material"`), matched exactly against the
-/// names the volume's file gave its fields (SPEC §8 **Decision**). Names are resolved when the
+/// names the volume's file gave its fields (thesis appendix C, docs/formats.md). Names are resolved when the
 /// map is bound to a volume, so one map file serves every file whose fields carry that name.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub enum FieldRef {

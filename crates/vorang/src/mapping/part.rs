@@ -1,4 +1,4 @@
-//! Parts of complex fields (issue 15): a map reads a complex field through its real part
+//! Parts of complex fields: a map reads a complex field through its real part
 //! `re(n)`, its imaginary part `im(n)` or its modulus `abs(n)`, written wherever a map names a
 //! field (`DataField abs(0)`, `CategoryField re(2)`, `field:im("E")` on a method line).
 //!
@@ -156,7 +156,7 @@ impl fmt::Display for MapField {
 }
 
 /// A field whose values are (re, im) pairs: Linear, Constant or HigherOrder over complex data.
-/// (Edge-element fields of complex data are real vector fields; see SPEC §7.)
+/// (Edge-element fields of complex data are real vector fields; see thesis appendix B, docs/formats.md.)
 pub fn is_complex(f: &Field) -> bool {
     f.ty.scalar == ScalarType::Complex && f.components() == 2 * f.ty.components()
 }

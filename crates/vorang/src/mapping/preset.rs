@@ -1,4 +1,4 @@
-//! Built-in transfer functions for a first picture without map files (issue 16, item 6):
+//! Built-in transfer functions for a first picture without map files:
 //! `colormap preset NAME lo hi` and `alphamap ramp lo hi chi_max`.
 //!
 //! Both are written as map text (a SIMPLE_EMITTER / SIMPLE_ABSORBER table over `[lo, hi]`) and

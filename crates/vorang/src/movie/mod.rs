@@ -1,4 +1,4 @@
-//! Animations (`movie FILE ?fps?` … `movie close`, issue 16 item 5): while a movie is open,
+//! Animations (`movie FILE ?fps?` … `movie close`): while a movie is open,
 //! every render adds its frame (legend included) to it instead of writing a numbered image;
 //! `movie close` writes the file.
 //!

@@ -1,7 +1,7 @@
 //! Grid lines (`linedraw`, thesis A.1): opaque black edges, depth-correct. Each pixel keeps the
 //! depth of the nearest line through it; compositing then treats that line as an opaque black
 //! background at that depth, so the volume in front of a line attenuates it and nothing behind
-//! it is seen (SPEC §6 **Decision**).
+//! it is seen (docs/scripts.md).
 
 use crate::error::Error;
 use crate::field::Interpolator;

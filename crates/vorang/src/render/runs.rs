@@ -1,5 +1,5 @@
 //! Visibility exact per pixel for any mesh: per-pixel *runs* of cells chained through their
-//! shared faces (SPEC §4; DESIGN §8 "order exact per pixel").
+//! shared faces (thesis 2.2.2.2; docs/architecture.md "order exact per pixel").
 //!
 //! Along one ray, the cells it passes form stretches of face-adjacent cells: a stretch starts
 //! where the ray enters the mesh (a boundary face, the near plane) and ends where it leaves.

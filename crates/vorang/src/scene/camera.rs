@@ -1,4 +1,4 @@
-//! Cameras and pixel rays (SPEC §5). Pixel (i, j) has its centre at screen position
+//! Cameras and pixel rays (docs/camera.md). Pixel (i, j) has its centre at screen position
 //! (i + ½, j + ½), i left → right, j top → bottom.
 
 use crate::error::Error;
@@ -168,7 +168,7 @@ pub enum Projector {
 impl Projector {
     /// `camera` = `None` is the default orthographic camera: the x/y extents of the centred,
     /// untransformed grid's bounding box (`size`), and no depth clipping — the ray is the whole
-    /// line (SPEC §5).
+    /// line (docs/camera.md).
     pub fn new(
         camera: Option<&Camera>,
         size: [f64; 3],

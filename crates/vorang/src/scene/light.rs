@@ -1,5 +1,5 @@
 //! Lights (`addlight`, `removelight`; thesis 1.1, 2.2.1.5, appendix A) and the shading they give
-//! the colour method `LIT_EMITTER` (issue 15 **Decision**).
+//! the colour method `LIT_EMITTER`.
 //!
 //! The thesis reserved lights — a default light at the camera until the user adds one — for a
 //! colormap shading method it never wrote. The Decision fixes that method: the emission of a
@@ -14,7 +14,7 @@
 //! everywhere); `h = (l + v)/|l + v|` the half vector with the unit vector `v` towards the
 //! viewer. A zero gradient leaves `ka` alone.
 //!
-//! Everything is in world coordinates (SPEC §5: after centring and the `vol_*` operations): a
+//! Everything is in world coordinates (docs/camera.md: after centring and the `vol_*` operations): a
 //! gradient computed in the file's coordinates is carried over by the inverse transpose of the
 //! model transform's linear part, so that normals stay normal to level sets under non-uniform
 //! scales and mirrors. `v` is the camera's viewing direction turned towards the viewer, the

@@ -1,6 +1,6 @@
 //! The scene: how the volume is placed (`vol_scale`, `vol_translate`, `vol_rotate`), where the
 //! eye is (`look_at`) and what the camera sees (`ortho_camera`, `persp_camera`), with the exact
-//! conventions of SPEC §5.
+//! conventions of docs/camera.md.
 //!
 //! Coordinates: *file* (as in the HyperMesh file) → *world* (centred on the file's bounding-box
 //! centre, then the `vol_*` operations) → *eye* (rigid `look_at` view: the camera looks along
@@ -61,7 +61,7 @@ pub struct View {
 impl View {
     /// File → world: centre the file's bounding box at the origin, then apply the operations in
     /// order. A rotation pivots about the file's bounding-box centre carried along by the
-    /// operations before it (SPEC §5 **Decision**). `None` if an operation is singular (zero
+    /// operations before it (docs/camera.md). `None` if an operation is singular (zero
     /// scale or rotation axis).
     pub fn model(&self, bbox_centre: [f64; 3]) -> Option<Affine> {
         let mut m = Affine::translation(bbox_centre.map(|c| -c));
@@ -126,7 +126,7 @@ impl View {
 pub const FIT_MARGIN: f64 = 0.05;
 
 impl View {
-    /// `view_all` (issue 16 **Decision**): a camera of the current kind (orthographic when none
+    /// `view_all`: a camera of the current kind (orthographic when none
     /// is set) looking in the current direction, such that every node of the transformed volume
     /// lies inside the image of `width × height` pixels with a margin of [`FIT_MARGIN`] on each
     /// side, touching it on at least one side. Orthographic: the window is centred on the

@@ -1,5 +1,5 @@
 //! Affine transforms in f64: the model transform built from `vol_scale`, `vol_translate`,
-//! `vol_rotate` (SPEC §5) and the rigid view transform of `look_at`.
+//! `vol_rotate` (docs/camera.md) and the rigid view transform of `look_at`.
 
 /// `x ↦ M·x + t`, stored as a 3×4 matrix `[M | t]`.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -1,4 +1,4 @@
-//! The HyperMesh file format for grids and data (thesis 6.1.1 and appendix B, SPEC §7).
+//! The HyperMesh file format for grids and data (thesis 6.1.1 and appendix B; docs/formats.md).
 //!
 //! A file is a line-oriented ASCII header followed by data blocks introduced by `@marker` lines:
 //!

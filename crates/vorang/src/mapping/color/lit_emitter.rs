@@ -1,4 +1,4 @@
-//! `LIT_EMITTER @m` (issue 15 **Decision**): a SIMPLE_EMITTER table lit by the scene's lights.
+//! `LIT_EMITTER @m`: a SIMPLE_EMITTER table lit by the scene's lights.
 //! The block's first row is `ka kd ks shininess`, the rows after it are the table `r g b value`.
 //! The method gives the table's colour; the mapping multiplies it by the lighting factor of
 //! [`crate::scene::Lighting`], which needs the data field's gradient at the point — something a
