@@ -481,7 +481,10 @@ fn parse_method(method: &str, brightness: f64) -> PyResult<Method> {
         "interpolColor" => "interpolateColor",
         other => other,
     };
-    if let Some(info) = vorang::render::approx::METHODS.iter().find(|m| m.name == name) {
+    if let Some(info) = vorang::render::approx::METHODS
+        .iter()
+        .find(|m| m.name == name)
+    {
         let params: Vec<&str> = info.usage.split_whitespace().collect();
         if words.len() == params.len() {
             words.push(match params.last() {
