@@ -208,7 +208,8 @@ fn build(
         warnings: Vec::new(),
     };
     let (vol, warnings) = formats::build::volume(desc).map_err(array_err)?;
-    warn_all(py, warnings.iter().map(|w| w.to_string()))?;
+    // Arrays have no file and line to name: the message alone.
+    warn_all(py, warnings.iter().map(|w| w.message.clone()))?;
     Ok(PyVolume {
         inner: Arc::new(vol),
     })
@@ -323,6 +324,42 @@ impl PyVolume {
         py.import("vorang")?
             .getattr("_from_pyvista")?
             .call1((grid,))
+    }
+
+    /// field_range(field) -> (lo, hi): the range of a scalar field (a name or a number) over
+    /// the mesh, as `vorang info` prints it; ValueError for vector fields and unknown names.
+    fn field_range(&self, field: &Bound<'_, PyAny>) -> PyResult<(f64, f64)> {
+        let vol = &self.inner;
+        let i = if let Ok(i) = field.extract::<usize>() {
+            i
+        } else {
+            let name: String = field.extract()?;
+            vol.data
+                .fields
+                .iter()
+                .position(|f| f.name.as_deref() == Some(name.as_str()))
+                .ok_or_else(|| {
+                    PyValueError::new_err(format!(
+                        "no field named {name:?}; the fields are {:?}",
+                        vol.data
+                            .fields
+                            .iter()
+                            .map(|f| f.name.clone().unwrap_or_default())
+                            .collect::<Vec<_>>()
+                    ))
+                })?
+        };
+        match vol.field_range(i).as_deref() {
+            Some([(lo, hi)]) => Ok((*lo, *hi)),
+            Some(r) => Err(PyValueError::new_err(format!(
+                "field {i} has {} components: give a scalar field",
+                r.len()
+            ))),
+            None => Err(PyValueError::new_err(format!(
+                "no field {i} ({} fields)",
+                vol.data.fields.len()
+            ))),
+        }
     }
 
     /// Number of points.
@@ -581,7 +618,7 @@ type Vec3 = [f64; 3];
 /// `(r, g, b, dx, dy, dz)` tuples, each an `addlight` (they shade `LIT_EMITTER` colormaps; none:
 /// one white light at the camera).
 #[pyfunction]
-#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="exact linear 0", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="off", lights=Vec::new(), view_all=true, progress=None))]
+#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="exact linear 0", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="off", lights=Vec::new(), view_all=true, zoom=1.0, legend=None, brightness=None, progress=None))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -600,6 +637,9 @@ fn render<'py>(
     linedraw: &str,
     lights: Vec<[f64; 6]>,
     view_all: bool,
+    zoom: f64,
+    legend: Option<&str>,
+    brightness: Option<f64>,
     progress: Option<Bound<'py, PyAny>>,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let vol = Arc::clone(&volume.get().inner);
@@ -617,16 +657,26 @@ fn render<'py>(
         .map_err(session_err)?;
     // No maps (or a preset's name as the colormap): the first picture `vorang info` suggests.
     let preset = preset_name(colormap)?;
-    let mut brightness = 1.0;
+    let mut default_brightness = brightness.unwrap_or(1.0);
     let use_preset = preset.is_some() || (is_none(colormap) && is_none(alphamap));
     if use_preset
         && let Some((chi, _)) = session
             .use_preset_maps("render", preset.as_deref().unwrap_or("viridis"))
             .map_err(session_err)?
     {
-        brightness = chi;
+        default_brightness = brightness.unwrap_or(chi);
     }
-    session.set_method(parse_method(method, brightness)?);
+    session.set_method(parse_method(method, default_brightness)?);
+    if let Some(place) = legend {
+        session.set_legend(Some(vorang::legend::Place::parse(place).ok_or_else(
+            || {
+                PyValueError::new_err(format!(
+                    "legend: expected a position {}, found '{place}'",
+                    vorang::legend::Place::NAMES.join(", ")
+                ))
+            },
+        )?));
+    }
     if let Some([fovy, aspect, near, far]) = persp {
         session
             .set_camera(Camera::Persp {
@@ -679,6 +729,9 @@ fn render<'py>(
     }
     if view_all && persp.is_none() && ortho.is_none() {
         session.view_all().map_err(session_err)?;
+    }
+    if zoom != 1.0 {
+        session.zoom(zoom).map_err(session_err)?;
     }
     let mut notices = Vec::new();
     let colormap = if preset.is_some() { None } else { colormap };
@@ -800,18 +853,13 @@ fn render_interruptible(
     }
 }
 
-/// save(image, path, *, transparent=False): writes an (h, w, 4) (or (h, w, 3)) float array
-/// as `render` returns it to an image file of any output format (by extension: .pfm, .png,
-/// .tiff, .exr, .rgb, …), as the script's render commands write it. transparent=True writes
-/// straight alpha, as after `background none`.
-#[pyfunction]
-#[pyo3(signature = (image, path, *, transparent=false))]
-fn save(
+/// An (h, w, 4) or (h, w, 3) float array as a framebuffer (`transparent`: straight alpha, as
+/// after `background none`).
+fn framebuffer_of(
     py: Python<'_>,
     image: &Bound<'_, PyAny>,
-    path: PathBuf,
     transparent: bool,
-) -> PyResult<()> {
+) -> PyResult<Framebuffer> {
     let (arr, k, shape) = as_array(py, image, "image")?;
     if shape.len() != 3 || !(shape[2] == 4 || shape[2] == 3) || !matches!(k, 'f' | 'i' | 'u') {
         return Err(PyValueError::new_err(format!(
@@ -827,12 +875,27 @@ fn save(
         .chunks_exact(c)
         .map(|p| [p[0], p[1], p[2], if c == 4 { p[3] } else { 1.0 }])
         .collect();
-    let fb = Framebuffer {
+    Ok(Framebuffer {
         width: w,
         height: h,
         pixels,
         transparent,
-    };
+    })
+}
+
+/// save(image, path, *, transparent=False): writes an (h, w, 4) (or (h, w, 3)) float array
+/// as `render` returns it to an image file of any output format (by extension: .pfm, .png,
+/// .tiff, .exr, .rgb, …), as the script's render commands write it. transparent=True writes
+/// straight alpha, as after `background none`.
+#[pyfunction]
+#[pyo3(signature = (image, path, *, transparent=false))]
+fn save(
+    py: Python<'_>,
+    image: &Bound<'_, PyAny>,
+    path: PathBuf,
+    transparent: bool,
+) -> PyResult<()> {
+    let fb = framebuffer_of(py, image, transparent)?;
     py.detach(|| write_image(&fb, &path)).map_err(py_err)
 }
 
@@ -876,11 +939,29 @@ fn run_script(py: Python<'_>, path_or_text: &Bound<'_, PyAny>) -> PyResult<()> {
     result.map_err(|e| PyRuntimeError::new_err(e.to_string()))
 }
 
+/// _encode(image, ext, *, transparent=False) -> bytes: the image as a file of format `ext`
+/// holds it (e.g. the PNG the CLI writes), for `vorang.Image._repr_png_`.
+#[pyfunction]
+#[pyo3(signature = (image, ext, *, transparent=false))]
+fn _encode<'py>(
+    py: Python<'py>,
+    image: &Bound<'py, PyAny>,
+    ext: &str,
+    transparent: bool,
+) -> PyResult<Bound<'py, pyo3::types::PyBytes>> {
+    let fb = framebuffer_of(py, image, transparent)?;
+    let bytes = py
+        .detach(|| vorang::framebuffer::encode_image(&fb, ext))
+        .map_err(py_err)?;
+    Ok(pyo3::types::PyBytes::new(py, &bytes))
+}
+
 #[pymodule]
 fn _vorang(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyVolume>()?;
     m.add_function(wrap_pyfunction!(render, m)?)?;
     m.add_function(wrap_pyfunction!(save, m)?)?;
+    m.add_function(wrap_pyfunction!(_encode, m)?)?;
     #[cfg(feature = "script")]
     m.add_function(wrap_pyfunction!(run_script, m)?)?;
     Ok(())

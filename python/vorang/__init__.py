@@ -20,9 +20,20 @@ from pathlib import Path
 from typing import Sequence
 
 from . import _vorang
+from ._image import Image
 from ._vorang import Volume, save
 
-__all__ = ["Volume", "render", "save", "run_script", "Colormap", "Alphamap"]
+__all__ = [
+    "Volume",
+    "Image",
+    "render",
+    "plot",
+    "show",
+    "save",
+    "run_script",
+    "Colormap",
+    "Alphamap",
+]
 
 
 def render(
@@ -42,9 +53,13 @@ def render(
     linedraw="off",
     lights=(),
     view_all=True,
+    zoom=1.0,
+    legend=None,
+    brightness=None,
     progress=None,
-):
-    """Renders `volume` back to front; returns a float32 array of shape (h, w, 4).
+) -> Image:
+    """Renders `volume` back to front; returns a `vorang.Image`: a float32 numpy array of shape
+    (h, w, 4) that shows itself in notebooks.
 
     The first row is the top of the image. RGB is exactly what the PFM output of the equivalent
     script holds; the fourth channel is alpha (the volume's opacity 1 - T).
@@ -69,7 +84,11 @@ def render(
     `vol_rotate x y z degrees` for each of `rotate` in order, `vol_translate translate`.
     background: "white" (= "clear"), "none" (no background light, transparent), an (r, g, b)
     tuple or an image path (`background`). linedraw: "off" (default), "on" (all grid lines,
-    the script's default), or "field {values}".
+    the script's default), or "field {values}". zoom: > 1 moves closer (the camera's window or
+    field of view shrinks by the factor about the image centre). legend: None, or where the
+    colour legend goes ("right", "left", "top", "bottom"; `legend on`). brightness: the
+    brightness when the method string leaves it out (default: the preset's χ_max with the
+    preset maps, else 1).
     lights: (r, g, b, dx, dy, dz) tuples, each an `addlight` (a light of that colour at infinity
     in direction (dx, dy, dz), world coordinates); they shade `LIT_EMITTER` colormaps. None
     given: one white light at the camera.
@@ -82,7 +101,7 @@ def render(
     `progress` (e.g. KeyboardInterrupt) stops the render at the next tile and is raised here.
     Ctrl-C is checked while rendering, but at present only takes effect when the render ends.
     """
-    return _vorang.render(
+    image = _vorang.render(
         volume,
         size=tuple(size),
         colormap=colormap,
@@ -98,8 +117,13 @@ def render(
         linedraw=linedraw,
         lights=[tuple(l) for l in lights],
         view_all=bool(view_all),
+        zoom=float(zoom),
+        legend=legend,
+        brightness=None if brightness is None else float(brightness),
         progress=progress,
     )
+    transparent = isinstance(background, str) and background in ("none", "transparent")
+    return Image(image, transparent=transparent)
 
 
 # meshio cell type names → VTK cell types (the readers' numbering).
@@ -287,15 +311,18 @@ class Colormap:
             f.write(self.text)
 
     @classmethod
-    def table(cls, values: Sequence[float], rgb, field=None) -> "Colormap":
+    def table(cls, values: Sequence[float], rgb, field=None, weighted=False) -> "Colormap":
         """SIMPLE_EMITTER: emission rgb[i] at data value values[i] (strictly increasing),
         linear in between, clamped outside. `field`: a field number or name (default: the
-        map's default DataField 0)."""
+        map's default DataField 0). weighted=True: ABSORPTION_WEIGHTED, the colour times the
+        alphamap's χ at the same point, so that a part shows its table colour once opaque
+        and fades with its opacity (the emission–absorption model of most volume renderers)."""
         v, c = _rows(values, rgb, "Colormap.table")
         if c.shape[1] != 3:
             raise ValueError(f"Colormap.table: rgb needs 3 columns, found {c.shape[1]}")
         rows = "".join(f"{r!r} {g!r} {b!r} {x!r}\n" for (r, g, b), x in zip(c.tolist(), v.tolist()))
-        return cls(f"# VoRANG Colormap 1.0\n{_field_line(field)}SIMPLE_EMITTER @1\n@1\n{rows}")
+        method = "ABSORPTION_WEIGHTED" if weighted else "SIMPLE_EMITTER"
+        return cls(f"# VoRANG Colormap 1.0\n{_field_line(field)}{method} @1\n@1\n{rows}")
 
     @classmethod
     def constant(cls, rgb, field=None) -> "Colormap":
@@ -433,6 +460,9 @@ _PRESETS = {
         (1.0, 1.0, 1.0),
     ],
 }
+
+
+from ._plot import plot, show  # noqa: E402  (they use render, defined above)
 
 
 def _vorang_program():

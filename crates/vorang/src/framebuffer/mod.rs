@@ -8,7 +8,7 @@ mod output;
 
 pub use background::{Background, BackgroundImage};
 pub use codec::pfm::read as read_pfm;
-pub use output::{FORMATS, FormatInfo, Read, format_for, numbered, write_image};
+pub use output::{FORMATS, FormatInfo, Read, encode_image, format_for, numbered, write_image};
 
 /// An image of `width × height` RGBA pixels, row-major from the top-left pixel. Alpha is
 /// 1 − the ray's total transparency.

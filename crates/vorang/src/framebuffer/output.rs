@@ -389,6 +389,23 @@ pub fn numbered(base: &Path, nr: u32) -> PathBuf {
     base.with_file_name(name)
 }
 
+/// `fb` encoded in the image format of extension `ext` (`png`, `tiff`, …), as a file of that
+/// format would hold it (Python's inline images show exactly the CLI's PNG).
+pub fn encode_image(fb: &Framebuffer, ext: &str) -> Result<Vec<u8>, Error> {
+    use std::sync::atomic::{AtomicU64, Ordering};
+    static NEXT: AtomicU64 = AtomicU64::new(0);
+    // The codecs write files (buffered, atomically): encode through a private temporary one.
+    let path = std::env::temp_dir().join(format!(
+        "vorang-encode-{}-{}.{ext}",
+        std::process::id(),
+        NEXT.fetch_add(1, Ordering::Relaxed)
+    ));
+    let result =
+        write_image(fb, &path).and_then(|()| std::fs::read(&path).map_err(|e| Error::io(&path, e)));
+    let _ = std::fs::remove_file(&path);
+    result
+}
+
 /// Writes `fb` to `path` in the format of its extension, atomically; creates missing folders.
 pub fn write_image(fb: &Framebuffer, path: &Path) -> Result<(), Error> {
     let format = format_for(path)?;

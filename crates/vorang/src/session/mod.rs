@@ -413,6 +413,55 @@ impl Session {
         )
     }
 
+    /// Zooms the camera by `factor` (> 1: closer) about the image centre: an orthographic window
+    /// shrinks by the factor, a perspective field of view narrows so that its tangent does. A
+    /// session without a camera gets the one `view_all` would choose first.
+    pub fn zoom(&mut self, factor: f64) -> Result<(), String> {
+        if !(factor > 0.0 && factor.is_finite()) {
+            return Err(format!("zoom: expected a factor > 0, found {factor}"));
+        }
+        if self.view.camera.is_none() {
+            self.view_all()?;
+        }
+        let camera = match self.view.camera {
+            Some(Camera::Ortho {
+                left,
+                right,
+                bottom,
+                top,
+                front,
+                back,
+            }) => {
+                let (cx, cy) = ((left + right) / 2.0, (bottom + top) / 2.0);
+                let (hx, hy) = ((right - left) / 2.0 / factor, (top - bottom) / 2.0 / factor);
+                Camera::Ortho {
+                    left: cx - hx,
+                    right: cx + hx,
+                    bottom: cy - hy,
+                    top: cy + hy,
+                    front,
+                    back,
+                }
+            }
+            Some(Camera::Persp {
+                fovy,
+                aspect,
+                near,
+                far,
+            }) => Camera::Persp {
+                fovy: 2.0
+                    * ((fovy.to_radians() / 2.0).tan() / factor)
+                        .atan()
+                        .to_degrees(),
+                aspect,
+                near,
+                far,
+            },
+            None => return Ok(()),
+        };
+        self.set_camera(camera)
+    }
+
     /// `vol_scale`, `vol_translate`, `vol_rotate`: one more transform after those so far.
     pub fn transform(&mut self, op: TransformOp) -> Result<(), String> {
         match op {
