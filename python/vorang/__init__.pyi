@@ -35,6 +35,15 @@ class Volume:
     def points(self) -> npt.NDArray[np.float64]: ...
     @property
     def tets(self) -> npt.NDArray[np.int64]: ...
+    def field_range(self, field: Union[int, str]) -> Tuple[float, float]: ...
+
+class Image(np.ndarray):
+    """A rendered image: float32 (h, w, 4), shown inline in notebooks."""
+
+    transparent: bool
+    def __new__(cls, array: npt.ArrayLike, transparent: bool = False) -> "Image": ...
+    def _repr_png_(self) -> Optional[bytes]: ...
+    def save(self, path: _Path) -> None: ...
 
 class Colormap:
     text: str
@@ -42,7 +51,11 @@ class Colormap:
     def save(self, path: _Path) -> None: ...
     @classmethod
     def table(
-        cls, values: Sequence[float], rgb: npt.ArrayLike, field: Union[int, str, None] = None
+        cls,
+        values: Sequence[float],
+        rgb: npt.ArrayLike,
+        field: Union[int, str, None] = None,
+        weighted: bool = False,
     ) -> "Colormap": ...
     @classmethod
     def constant(cls, rgb: Sequence[float], field: Union[int, str, None] = None) -> "Colormap": ...
@@ -73,7 +86,7 @@ def render(
     size: Tuple[int, int] = (512, 512),
     colormap: Union[None, str, _Path, Colormap] = None,
     alphamap: Union[None, str, _Path, Alphamap] = None,
-    method: str = "test 0.5",
+    method: str = "exact linear 0",
     persp: Optional[Tuple[float, float, float, float]] = None,
     ortho: Optional[Tuple[float, float, float, float, float, float]] = None,
     look_at: Optional[Tuple[_Vec3, _Vec3, _Vec3]] = None,
@@ -81,9 +94,27 @@ def render(
     scale: Optional[_Vec3] = None,
     translate: Optional[_Vec3] = None,
     background: Union[str, _Vec3, _Path, None] = "white",
-    linedraw: str = "on",
+    linedraw: str = "off",
     lights: Sequence[Tuple[float, float, float, float, float, float]] = (),
+    view_all: bool = True,
+    zoom: float = 1.0,
+    legend: Optional[str] = None,
+    brightness: Optional[float] = None,
     progress: Optional[object] = None,
-) -> npt.NDArray[np.float32]: ...
+) -> Image: ...
+def plot(
+    data: object,
+    *,
+    scalars: Union[int, str, None] = None,
+    cmap: object = "viridis",
+    clim: Optional[Tuple[float, float]] = None,
+    opacity: Union[str, Sequence[float], None] = None,
+    opacity_unit_distance: Optional[float] = None,
+    size: Tuple[int, int] = (512, 512),
+    method: str = "exact linear 0",
+    time: Optional[float] = None,
+    **render_kwargs: object,
+) -> Image: ...
+def show(data: object, **plot_kwargs: object) -> object: ...
 def save(image: npt.ArrayLike, path: _Path, *, transparent: bool = False) -> None: ...
 def run_script(path_or_text: Union[str, _Path]) -> None: ...

@@ -180,6 +180,10 @@ def plot(
     which shows itself in notebooks.
     """
     vol = _as_volume(data, time)
+    if clim is None and hasattr(data, "range") and hasattr(data, "times"):
+        # A series: the range over all steps, so that colours mean the same in every frame.
+        _, name = _field(vol, scalars)
+        clim = data.range(name if name else _field(vol, scalars)[0])
     colormap, alphamap, brightness = transfer_function(
         vol,
         scalars=scalars,
