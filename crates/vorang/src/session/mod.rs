@@ -246,6 +246,8 @@ impl Session {
         if !append {
             self.colormap = ColorMap::default_map();
             self.alphamap = AlphaMap::default_map();
+            self.colormap_set = false;
+            self.alphamap_set = false;
         }
         Ok((fields(n), warnings(w)))
     }
