@@ -12,6 +12,25 @@
 //! scene back as script commands (the viewer's `p`). The session prints nothing: what it has to
 //! say comes back as [`Notice`]s, which each front end shows in its own idiom (standard error,
 //! Python's `warnings`), so every front end shows the same texts.
+//!
+//! ```
+//! use std::sync::Arc;
+//! use std::sync::atomic::AtomicBool;
+//! use vorang::render::{Method, Order};
+//! use vorang::session::{Hooks, Session};
+//!
+//! let mut session = Session::new();
+//! session.set_volume(Arc::new(vorang::volume::jittered_box(48, 0.0, 1)));
+//! session.set_image_size(32, 24).unwrap();
+//! session.set_method(Method::parse(&["exact", "linear", "0", "1"]).unwrap());
+//! session.view_all().unwrap();
+//! let cancel = AtomicBool::new(false);
+//! let hooks = Hooks { progress: None, tile: None, cancel: &cancel };
+//! let image = session.render_image(Order::BackToFront, &hooks).unwrap();
+//! assert_eq!((image.framebuffer.width, image.framebuffer.height), (32, 24));
+//! // The default maps are in use and the method is not the default: nothing to warn about.
+//! assert!(image.notices.is_empty(), "{:?}", image.notices);
+//! ```
 
 mod frame;
 mod script;
