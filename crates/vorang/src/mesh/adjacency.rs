@@ -3,9 +3,64 @@
 //! Every face is keyed by its sorted node triple `(a < b < c)`. A counting sort on the smallest
 //! node `a` puts the faces of each node into one small bucket (≈ 24 faces per node in a typical
 //! mesh), and sorting each bucket by `(b, c)` makes matching faces adjacent. This avoids a hash
-//! map or a global sort of 4·n keys and runs in one pass over memory.
+//! map or a global sort of 4·n keys and runs in one pass over memory; the buckets are matched
+//! in parallel.
+
+use rayon::prelude::*;
 
 use super::{MeshError, NO_NEIGHBOR};
+
+/// Nodes whose buckets one parallel task matches (a few hundred thousand faces).
+const NODES_PER_TASK: usize = 1 << 14;
+
+/// The matching faces of the buckets of `nodes`: pairs of face ids (cell·4 + face), or the
+/// first face shared by more than two cells.
+fn match_buckets(
+    tets: &[[u32; 4]],
+    start: &[u32],
+    order: &[u32],
+    nodes: std::ops::Range<usize>,
+) -> Result<Vec<(u32, u32)>, MeshError> {
+    let mut pairs = Vec::new();
+    let mut bucket: Vec<(u64, u32)> = Vec::with_capacity(64);
+    for a in nodes {
+        let ids = &order[start[a] as usize..start[a + 1] as usize];
+        if ids.len() < 2 {
+            continue;
+        }
+        bucket.clear();
+        bucket.extend(ids.iter().map(|&id| {
+            let (t, f) = (id as usize / 4, id as usize % 4);
+            let [_, b, c] = sorted_face(&tets[t], f);
+            ((u64::from(b) << 32) | u64::from(c), id)
+        }));
+        bucket.sort_unstable();
+        let mut i = 0;
+        while i < bucket.len() {
+            let mut j = i + 1;
+            while j < bucket.len() && bucket[j].0 == bucket[i].0 {
+                j += 1;
+            }
+            match j - i {
+                1 => {}
+                2 => pairs.push((bucket[i].1, bucket[i + 1].1)),
+                _ => {
+                    let mut ids: Vec<usize> =
+                        bucket[i..j].iter().map(|&(_, id)| id as usize).collect();
+                    ids.sort_unstable();
+                    let third = ids[2];
+                    return Err(MeshError::NonManifold {
+                        tet: third / 4,
+                        face: third % 4,
+                        others: [ids[0] / 4, ids[1] / 4],
+                    });
+                }
+            }
+            i = j;
+        }
+    }
+    Ok(pairs)
+}
 
 /// For each cell and face `i` (opposite node `i`): the neighbouring cell or [`NO_NEIGHBOR`].
 /// Fails if a face is shared by more than two cells.
@@ -33,46 +88,23 @@ pub fn face_neighbors(node_count: usize, tets: &[[u32; 4]]) -> Result<Vec<[u32; 
     }
     drop(fill);
 
+    // Each node's bucket is matched on its own, so the buckets are matched in parallel, in
+    // chunks of nodes; the pairs are written afterwards. The chunks come back in node order, so
+    // the first error reported is the one a single thread would find first.
+    let matched: Vec<Result<Vec<(u32, u32)>, MeshError>> = (0..node_count)
+        .into_par_iter()
+        .step_by(NODES_PER_TASK)
+        .map(|first| {
+            let last = (first + NODES_PER_TASK).min(node_count);
+            match_buckets(tets, &start, &order, first..last)
+        })
+        .collect();
     let mut neighbors = vec![[NO_NEIGHBOR; 4]; tets.len()];
-    let mut bucket: Vec<(u64, u32)> = Vec::with_capacity(64);
-    for a in 0..node_count {
-        let ids = &order[start[a] as usize..start[a + 1] as usize];
-        if ids.len() < 2 {
-            continue;
-        }
-        bucket.clear();
-        bucket.extend(ids.iter().map(|&id| {
-            let (t, f) = (id as usize / 4, id as usize % 4);
-            let [_, b, c] = sorted_face(&tets[t], f);
-            ((u64::from(b) << 32) | u64::from(c), id)
-        }));
-        bucket.sort_unstable();
-        let mut i = 0;
-        while i < bucket.len() {
-            let mut j = i + 1;
-            while j < bucket.len() && bucket[j].0 == bucket[i].0 {
-                j += 1;
-            }
-            match j - i {
-                1 => {}
-                2 => {
-                    let (p, q) = (bucket[i].1 as usize, bucket[i + 1].1 as usize);
-                    neighbors[p / 4][p % 4] = (q / 4) as u32;
-                    neighbors[q / 4][q % 4] = (p / 4) as u32;
-                }
-                _ => {
-                    let mut ids: Vec<usize> =
-                        bucket[i..j].iter().map(|&(_, id)| id as usize).collect();
-                    ids.sort_unstable();
-                    let third = ids[2];
-                    return Err(MeshError::NonManifold {
-                        tet: third / 4,
-                        face: third % 4,
-                        others: [ids[0] / 4, ids[1] / 4],
-                    });
-                }
-            }
-            i = j;
+    for pairs in matched {
+        for (p, q) in pairs? {
+            let (p, q) = (p as usize, q as usize);
+            neighbors[p / 4][p % 4] = (q / 4) as u32;
+            neighbors[q / 4][q % 4] = (p / 4) as u32;
         }
     }
     Ok(neighbors)
@@ -135,5 +167,31 @@ mod tests {
                 others: [0, 1]
             }
         );
+    }
+
+    /// The parallel matching (several tasks of nodes) against a plain hash map of faces.
+    #[test]
+    fn matches_a_hash_map_of_faces_across_tasks() {
+        let vol = crate::volume::jittered_box(300_000, 0.1, 3);
+        let tets = vol.mesh.tets();
+        assert!(vol.mesh.node_count() > 2 * NODES_PER_TASK, "several tasks");
+        let nb = face_neighbors(vol.mesh.node_count(), tets).unwrap();
+        let mut faces: std::collections::HashMap<[u32; 3], Vec<usize>> = Default::default();
+        for (t, tet) in tets.iter().enumerate() {
+            for f in 0..4 {
+                faces
+                    .entry(sorted_face(tet, f))
+                    .or_default()
+                    .push(t * 4 + f);
+            }
+        }
+        let mut expected = vec![[NO_NEIGHBOR; 4]; tets.len()];
+        for ids in faces.values() {
+            if let [p, q] = ids[..] {
+                expected[p / 4][p % 4] = (q / 4) as u32;
+                expected[q / 4][q % 4] = (p / 4) as u32;
+            }
+        }
+        assert_eq!(nb, expected);
     }
 }

@@ -128,6 +128,56 @@ impl PartialEq for ConvexCache {
     }
 }
 
+/// Cells per parallel task of [`orient_cells`].
+const CELLS_PER_TASK: usize = 1 << 14;
+
+/// Checks every cell's node indices and turns negatively oriented cells (exact predicate) the
+/// positive way; returns how many were turned. In parallel, by chunks of cells that come back
+/// in order, so the error reported is the first cell's a single thread would find.
+fn orient_cells(nodes: &[[f64; 3]], tets: &mut [[u32; 4]]) -> Result<usize, MeshError> {
+    use rayon::prelude::*;
+    let counts: Vec<Result<usize, MeshError>> = tets
+        .par_chunks_mut(CELLS_PER_TASK)
+        .enumerate()
+        .map(|(chunk, cells)| {
+            let mut reoriented = 0;
+            for (i, tet) in cells.iter_mut().enumerate() {
+                let t = chunk * CELLS_PER_TASK + i;
+                for (k, &n) in tet.iter().enumerate() {
+                    if n as usize >= nodes.len() {
+                        return Err(MeshError::NodeOutOfRange {
+                            tet: t,
+                            node: n as usize,
+                            nodes: nodes.len(),
+                        });
+                    }
+                    if tet[..k].contains(&n) {
+                        return Err(MeshError::RepeatedNode {
+                            tet: t,
+                            node: n as usize,
+                        });
+                    }
+                }
+                let p = tet.map(|n| nodes[n as usize]);
+                let sign = orientation(p[0], p[1], p[2], p[3]);
+                if sign == 0.0 {
+                    return Err(MeshError::Degenerate { tet: t });
+                }
+                if sign < 0.0 {
+                    tet.swap(2, 3);
+                    reoriented += 1;
+                }
+            }
+            Ok(reoriented)
+        })
+        .collect();
+    let mut total = 0;
+    for count in counts {
+        total += count?;
+    }
+    Ok(total)
+}
+
 impl TetMesh {
     /// Validates and builds a mesh. Negatively oriented cells are re-oriented in place (their
     /// index is kept, so cell data stays attached); [`TetMesh::reoriented`] says how many.
@@ -138,33 +188,7 @@ impl TetMesh {
         if let Some(node) = nodes.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
             return Err(MeshError::NonFinite { node });
         }
-        let mut reoriented = 0;
-        for (t, tet) in tets.iter_mut().enumerate() {
-            for (k, &n) in tet.iter().enumerate() {
-                if n as usize >= nodes.len() {
-                    return Err(MeshError::NodeOutOfRange {
-                        tet: t,
-                        node: n as usize,
-                        nodes: nodes.len(),
-                    });
-                }
-                if tet[..k].contains(&n) {
-                    return Err(MeshError::RepeatedNode {
-                        tet: t,
-                        node: n as usize,
-                    });
-                }
-            }
-            let p = tet.map(|n| nodes[n as usize]);
-            let sign = orientation(p[0], p[1], p[2], p[3]);
-            if sign == 0.0 {
-                return Err(MeshError::Degenerate { tet: t });
-            }
-            if sign < 0.0 {
-                tet.swap(2, 3);
-                reoriented += 1;
-            }
-        }
+        let reoriented = orient_cells(&nodes, &mut tets)?;
         let neighbors = adjacency::face_neighbors(nodes.len(), &tets)?;
         let boundary_faces = neighbors
             .iter()
