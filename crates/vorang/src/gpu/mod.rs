@@ -19,6 +19,7 @@
 //! per node four f64 per frame (screen position, depth, field value), per pixel its entries.
 
 pub mod frame;
+pub mod spirv;
 pub mod twin;
 
 use std::sync::{Arc, Mutex, Weak};
@@ -58,7 +59,9 @@ struct Uploaded {
 pub struct Gpu {
     device: wgpu::Device,
     queue: wgpu::Queue,
-    march: wgpu::ComputePipeline,
+    march: Kernel,
+    /// The shaders go to the device as our own SPIR-V, every float operation NoContraction.
+    passthrough: bool,
     /// The adapter's name, driver and kind.
     name: String,
     /// The device's `fma` on f64 rounds once (lavapipe's does not: it multiplies and adds).
@@ -106,33 +109,28 @@ impl Gpu {
             ));
         };
         let info = adapter.get_info();
+        // SPIR-V of our own (with NoContraction, see [`spirv`]) where the adapter takes it.
+        let passthrough = adapter
+            .features()
+            .contains(wgpu::Features::PASSTHROUGH_SHADERS);
+        let mut features = wgpu::Features::SHADER_F64;
+        if passthrough {
+            features |= wgpu::Features::PASSTHROUGH_SHADERS;
+        }
         let (device, queue) = block(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("vorang"),
-            required_features: wgpu::Features::SHADER_F64,
+            required_features: features,
             required_limits: adapter.limits(),
             ..Default::default()
         }))
         .map_err(|e| format!("the Vulkan device {} did not open: {e}", info.name))?;
-        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("march"),
-            source: wgpu::ShaderSource::Wgsl(source().into()),
-        });
-        let march = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("march"),
-            layout: None,
-            module: &module,
-            entry_point: Some("march"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        if let Some(e) = block(scope.pop()) {
-            return Err(format!("the shaders did not compile on {}: {e:?}", info.name));
-        }
+        let march = Kernel::new(&device, passthrough, &source(), "march", (8, 8, 1), 6)
+            .map_err(|e| format!("the shaders did not compile on {}: {e}", info.name))?;
         let mut gpu = Gpu {
             device,
             queue,
             march,
+            passthrough,
             name: format!("{} ({}, {:?})", info.name, info.driver_info, info.device_type),
             exact_fma: false,
             uploaded: Mutex::new(None),
@@ -169,23 +167,12 @@ impl Gpu {
         outputs: usize,
     ) -> Result<Vec<f64>, String> {
         let d = &self.device;
-        let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
         let src = format!(
             "{}\n{}\n{}\n{}",
             WGSL[0].1, WGSL[1].1, WGSL[2].1, PROBE_WGSL
         );
-        let module = d.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("probe"),
-            source: wgpu::ShaderSource::Wgsl(src.into()),
-        });
-        let pipeline = d.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(entry),
-            layout: None,
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let kernel = Kernel::new(d, self.passthrough, &src, entry, (64, 1, 1), 3)?;
+        let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
         let count = input.len() / stride.max(1);
         let inputs = self.storage(bytemuck::cast_slice(input));
         let size = (outputs.max(1) * count.max(1) * 8) as u64;
@@ -198,7 +185,7 @@ impl Gpu {
         let params = self.storage(bytemuck::cast_slice(&[f64::from(u8::from(self.exact_fma))]));
         let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: None,
-            layout: &pipeline.get_bind_group_layout(0),
+            layout: &kernel.group,
             entries: &[
                 entry_of(0, &inputs),
                 entry_of(1, &out),
@@ -208,7 +195,7 @@ impl Gpu {
         if let Some(e) = block(scope.pop()) {
             return Err(format!("probe {entry}: {e:?}"));
         }
-        let result = self.dispatch(&pipeline, &group, [count.div_ceil(64) as u32, 1], &out, size)?;
+        let result = self.dispatch(&kernel.pipeline, &group, [count.div_ceil(64) as u32, 1], &out, size)?;
         Ok(result)
     }
 
@@ -350,7 +337,7 @@ impl Gpu {
         });
         let group = d.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("march"),
-            layout: &self.march.get_bind_group_layout(0),
+            layout: &self.march.group,
             entries: &[
                 entry_of(0, &mesh),
                 entry_of(1, &nodes),
@@ -367,7 +354,88 @@ impl Gpu {
             data.width.div_ceil(8) as u32,
             data.height.div_ceil(8) as u32,
         ];
-        self.dispatch(&self.march, &group, groups, &image, size)
+        self.dispatch(&self.march.pipeline, &group, groups, &image, size)
+    }
+}
+
+/// A compiled entry point with its layout: storage buffers 0…n−1, all read-only but the one
+/// before last (the output).
+struct Kernel {
+    pipeline: wgpu::ComputePipeline,
+    group: wgpu::BindGroupLayout,
+}
+
+impl Kernel {
+    fn new(
+        device: &wgpu::Device,
+        passthrough: bool,
+        source: &str,
+        entry: &str,
+        workgroup: (u32, u32, u32),
+        buffers: u32,
+    ) -> Result<Kernel, String> {
+        let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let module = if passthrough {
+            let words = spirv::compile(source)?;
+            // SAFETY: the SPIR-V is naga's translation of shaders naga validated; the added
+            // decorations only forbid the driver to rewrite arithmetic.
+            unsafe {
+                device.create_shader_module_passthrough(
+                    wgpu::ShaderModuleDescriptorPassthrough {
+                        label: Some(entry),
+                        entry_points: vec![wgpu::PassthroughShaderEntryPoint {
+                            name: entry.into(),
+                            workgroup_size: workgroup,
+                        }]
+                        .into(),
+                        spirv: Some(words.into()),
+                        ..Default::default()
+                    },
+                )
+            }
+        } else {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(entry),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            })
+        };
+        // The output is binding 1 of the probes (of 3) and binding 5 of the march (of 6).
+        let output = if buffers == 3 { 1 } else { buffers - 1 };
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..buffers)
+            .map(|b| wgpu::BindGroupLayoutEntry {
+                binding: b,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage {
+                        read_only: b != output,
+                    },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            })
+            .collect();
+        let group = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(entry),
+            entries: &entries,
+        });
+        let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some(entry),
+            bind_group_layouts: &[Some(&group)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&layout),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        if let Some(e) = block(scope.pop()) {
+            return Err(format!("{entry}: {e:?}"));
+        }
+        Ok(Kernel { pipeline, group })
     }
 }
 
