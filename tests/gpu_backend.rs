@@ -62,8 +62,8 @@ fn no_wgsl_source_calls_exp_log_pow_or_erf() {
                         i += 1;
                     }
                     let word: String = chars[start..i].iter().collect();
-                    let rest = code[code.char_indices().nth(i).map_or(code.len(), |c| c.0)..]
-                        .trim_start();
+                    let rest =
+                        code[code.char_indices().nth(i).map_or(code.len(), |c| c.0)..].trim_start();
                     assert!(
                         !(FORBIDDEN.contains(&word.as_str()) && rest.starts_with('(')),
                         "{}:{}: `{word}` is not defined for f64 in Vulkan: use the series (integrate::linear_lanes)",

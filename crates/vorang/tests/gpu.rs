@@ -51,7 +51,10 @@ fn predicates_are_their_twins_bit_for_bit() {
     let mut rng = SplitMix64(7);
     let mut input = Vec::new();
     for i in 0..20_000 {
-        let (a, b) = (grid_point(&mut rng, i % 3 == 0), grid_point(&mut rng, i % 3 == 0));
+        let (a, b) = (
+            grid_point(&mut rng, i % 3 == 0),
+            grid_point(&mut rng, i % 3 == 0),
+        );
         // Points on the line through a and b, and near it.
         let t = (8.0 * rng.next_f64()).round() / 4.0;
         let mut c = [a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])];
@@ -68,7 +71,11 @@ fn predicates_are_their_twins_bit_for_bit() {
         assert_eq!(out[2 * i], f64::from(o), "orient {q:?}");
         assert_eq!(out[2 * i + 1] != 0.0, twin::inside(a, b, c, g.exact_fma()));
         // The twin is the CPU's exact predicate.
-        assert_eq!(o, i32::from(vorang::predicates::orient_sign(a, b, c)), "{q:?}");
+        assert_eq!(
+            o,
+            i32::from(vorang::predicates::orient_sign(a, b, c)),
+            "{q:?}"
+        );
         zeros += usize::from(o == 0);
     }
     assert!(zeros > 1000, "{zeros} collinear cases");
@@ -129,7 +136,11 @@ fn faces_and_exits_are_their_twins_bit_for_bit() {
     }
     let out = g.run_probe("exit_probe", &input, 11, 1).unwrap();
     for (i, (s, sign, p)) in cells.iter().enumerate() {
-        assert_eq!(out[i], twin::exit_face(s, *sign, *p, fma) as f64, "{s:?} {p:?}");
+        assert_eq!(
+            out[i],
+            twin::exit_face(s, *sign, *p, fma) as f64,
+            "{s:?} {p:?}"
+        );
     }
 }
 
@@ -158,7 +169,12 @@ fn the_linear_rule_is_its_twin_and_the_cpu_rule() {
         let (far, near, mid) = ([e[0], e[1], e[2]], [e[3], e[4], e[5]], [e[6], e[7], e[8]]);
         let (b, theta) = twin::segment(far, near, mid, *quadratic, *cf, *cn, *l);
         let got = &out[4 * i..4 * i + 4];
-        assert_eq!(bits_equal(got, &[b[0], b[1], b[2], theta]), None, "{:?}", cases[i]);
+        assert_eq!(
+            bits_equal(got, &[b[0], b[1], b[2], theta]),
+            None,
+            "{:?}",
+            cases[i]
+        );
         let seg = vorang::integrate::Segment {
             eta: [far, near],
             chi: [*cf, *cn],
@@ -251,7 +267,10 @@ fn compare(
         eprintln!("{what}: {neighbours} channels one f32 step apart");
     }
     // Measured on lavapipe: at most 12 of 36 864 channels (the 90° axis view).
-    assert!(neighbours * 400 <= 4 * cpu.pixels.len(), "{what}: {neighbours} channels one f32 step apart");
+    assert!(
+        neighbours * 400 <= 4 * cpu.pixels.len(),
+        "{what}: {neighbours} channels one f32 step apart"
+    );
     let i = worst.1;
     assert!(
         worst.0 <= 1e-12,

@@ -77,7 +77,12 @@ pub fn prepare(
     let placed = place_nodes(vol, view, settings)?;
     let (dmin, dmax) = placed.projector.depth();
     let perspective = placed.projector.is_perspective();
-    if perspective && placed.eye_nodes.iter().any(|p| !(-p[2] >= dmin)) {
+    if perspective
+        && placed
+            .eye_nodes
+            .iter()
+            .any(|p| (-p[2]).partial_cmp(&dmin).is_none_or(|o| o.is_lt()))
+    {
         return Err(Error::Invalid(
             "the GPU backend does not render cells reaching in front of the near plane yet (the eye inside or close to the volume); use 'backend cpu'".into(),
         ));
@@ -242,22 +247,19 @@ pub fn finish(data: &FrameData, image: &[f64], settings: &Settings) -> Result<Fr
             v as f32
         }
     };
-    fb.pixels
-        .par_iter_mut()
-        .enumerate()
-        .for_each(|(i, out)| {
-            let line = data.lines.as_ref().is_some_and(|l| l[i].is_finite());
-            let bg = if line {
-                [0.0; 3]
-            } else {
-                uniform.unwrap_or_else(|| pixels[i])
-            };
-            let c = &image[4 * i..4 * i + 4];
-            let t = c[3];
-            let rgb = [0, 1, 2].map(|k| c[k] + t * bg[k]);
-            let alpha = if line { 1.0 } else { 1.0 - t };
-            *out = [to_f32(rgb[0]), to_f32(rgb[1]), to_f32(rgb[2]), alpha as f32];
-        });
+    fb.pixels.par_iter_mut().enumerate().for_each(|(i, out)| {
+        let line = data.lines.as_ref().is_some_and(|l| l[i].is_finite());
+        let bg = if line {
+            [0.0; 3]
+        } else {
+            uniform.unwrap_or_else(|| pixels[i])
+        };
+        let c = &image[4 * i..4 * i + 4];
+        let t = c[3];
+        let rgb = [0, 1, 2].map(|k| c[k] + t * bg[k]);
+        let alpha = if line { 1.0 } else { 1.0 - t };
+        *out = [to_f32(rgb[0]), to_f32(rgb[1]), to_f32(rgb[2]), alpha as f32];
+    });
     fb.transparent = matches!(settings.background, Background::None);
     Ok(fb)
 }

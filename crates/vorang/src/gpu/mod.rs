@@ -131,7 +131,10 @@ impl Gpu {
             queue,
             march,
             passthrough,
-            name: format!("{} ({}, {:?})", info.name, info.driver_info, info.device_type),
+            name: format!(
+                "{} ({}, {:?})",
+                info.name, info.driver_info, info.device_type
+            ),
             exact_fma: false,
             uploaded: Mutex::new(None),
         };
@@ -195,7 +198,13 @@ impl Gpu {
         if let Some(e) = block(scope.pop()) {
             return Err(format!("probe {entry}: {e:?}"));
         }
-        let result = self.dispatch(&kernel.pipeline, &group, [count.div_ceil(64) as u32, 1], &out, size)?;
+        let result = self.dispatch(
+            &kernel.pipeline,
+            &group,
+            [count.div_ceil(64) as u32, 1],
+            &out,
+            size,
+        )?;
         Ok(result)
     }
 
@@ -380,18 +389,16 @@ impl Kernel {
             // SAFETY: the SPIR-V is naga's translation of shaders naga validated; the added
             // decorations only forbid the driver to rewrite arithmetic.
             unsafe {
-                device.create_shader_module_passthrough(
-                    wgpu::ShaderModuleDescriptorPassthrough {
-                        label: Some(entry),
-                        entry_points: vec![wgpu::PassthroughShaderEntryPoint {
-                            name: entry.into(),
-                            workgroup_size: workgroup,
-                        }]
-                        .into(),
-                        spirv: Some(words.into()),
-                        ..Default::default()
-                    },
-                )
+                device.create_shader_module_passthrough(wgpu::ShaderModuleDescriptorPassthrough {
+                    label: Some(entry),
+                    entry_points: vec![wgpu::PassthroughShaderEntryPoint {
+                        name: entry.into(),
+                        workgroup_size: workgroup,
+                    }]
+                    .into(),
+                    spirv: Some(words.into()),
+                    ..Default::default()
+                })
             }
         } else {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {

@@ -12,7 +12,9 @@
 /// OpFSub, OpFMul, OpFDiv, OpFRem, OpFMod, OpVectorTimesScalar, OpMatrixTimesScalar,
 /// OpVectorTimesMatrix, OpMatrixTimesVector, OpMatrixTimesMatrix, OpDot, and OpExtInst (the
 /// GLSL.std.450 calls: fma, sqrt, floor, ceil, min, max, …).
-const FLOAT_OPS: &[u32] = &[127, 129, 131, 133, 136, 140, 141, 142, 143, 144, 145, 146, 148, 12];
+const FLOAT_OPS: &[u32] = &[
+    127, 129, 131, 133, 136, 140, 141, 142, 143, 144, 145, 146, 148, 12,
+];
 
 const OP_DECORATE: u32 = 71;
 const NO_CONTRACTION: u32 = 42;

@@ -5,6 +5,8 @@
 //! split; both give the same exact product.
 //!
 //! Each function names its shader twin; the comments on the algorithms are in the shaders.
+//! Comparisons keep the shaders' form, NaN behaviour included (`!(x > y)` is not `x <= y`).
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::mesh::{FACE_NODES, NO_NEIGHBOR};
 
@@ -171,7 +173,8 @@ pub fn face_hit(k: [Corner; 3], p: [f64; 2], persp: bool, fma: bool) -> [f64; 2]
     let (a, b, c) = (k[0].p, k[1].p, k[2].p);
     let (z0, z1, z2) = (k[0].z, k[1].z, k[2].z);
     let area = ((a[0] - c[0]) * (b[1] - c[1]) - (a[1] - c[1]) * (b[0] - c[0])).abs();
-    let len2 = |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]) * (u[0] - v[0]) + (u[1] - v[1]) * (u[1] - v[1]);
+    let len2 =
+        |u: [f64; 2], v: [f64; 2]| (u[0] - v[0]) * (u[0] - v[0]) + (u[1] - v[1]) * (u[1] - v[1]);
     let longest = len2(a, b).max(len2(b, c)).max(len2(c, a));
     let sliver = area.is_nan() || area < 1e-3 * longest;
     let mut f = [k[0].v, k[1].v, k[2].v];
@@ -249,7 +252,7 @@ pub fn exit_face(s: &[[f64; 2]; 4], entry_sign: i32, p: [f64; 2], fma: bool) -> 
         let holds = (0..3).all(|e| {
             let (u, v) = (pos[f][e], pos[f][(e + 1) % 3]);
             let other = 6 - f - u - v;
-            !(kind[other] == kind[f] && !inside(s[u], s[v], p, fma))
+            kind[other] != kind[f] || inside(s[u], s[v], p, fma)
         });
         if holds {
             return f;
@@ -397,7 +400,9 @@ impl Buffers<'_> {
 
     /// `piece_of`.
     fn piece_of(&self, s: f64) -> usize {
-        (0..self.knot_count()).filter(|&i| self.knot(i) <= s).count()
+        (0..self.knot_count())
+            .filter(|&i| self.knot(i) <= s)
+            .count()
     }
 
     /// `eval_in`.
@@ -416,7 +421,15 @@ impl Buffers<'_> {
     }
 
     /// `piece`.
-    fn piece(&self, u0: f64, u1: f64, p: usize, s_far: f64, s_near: f64, length: f64) -> Contribution {
+    fn piece(
+        &self,
+        u0: f64,
+        u1: f64,
+        p: usize,
+        s_far: f64,
+        s_near: f64,
+        length: f64,
+    ) -> Contribution {
         let s0 = s_far + u0 * (s_near - s_far);
         let s1 = s_far + u1 * (s_near - s_far);
         let mid = 0.5 * (s0 + s1);
@@ -440,10 +453,24 @@ impl Buffers<'_> {
     }
 
     /// `piece_between`.
-    fn piece_between(&self, u0: f64, u1: f64, s_far: f64, s_near: f64, length: f64) -> Contribution {
+    fn piece_between(
+        &self,
+        u0: f64,
+        u1: f64,
+        s_far: f64,
+        s_near: f64,
+        length: f64,
+    ) -> Contribution {
         let s0 = s_far + u0 * (s_near - s_far);
         let s1 = s_far + u1 * (s_near - s_far);
-        self.piece(u0, u1, self.piece_of(0.5 * (s0 + s1)), s_far, s_near, length)
+        self.piece(
+            u0,
+            u1,
+            self.piece_of(0.5 * (s0 + s1)),
+            s_far,
+            s_near,
+            length,
+        )
     }
 
     /// `cell_contribution`.

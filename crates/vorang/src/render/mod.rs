@@ -65,11 +65,11 @@ pub use approx::{MAX_PIECES, METHODS, Method};
 pub use composite::{EARLY_TERMINATION, Order};
 pub use lines::LineDraw;
 pub use raster::Rect;
-#[cfg(feature = "gpu")]
-pub(crate) use schedule::{Placed, place_nodes};
 pub use schedule::{
     CANCELLED, Stats, TileSink, Timing, Watch, auto_tile, render, render_cancellable,
     render_watched,
 };
+#[cfg(feature = "gpu")]
+pub(crate) use schedule::{Placed, place_nodes};
 pub use settings::{MAX_PIXELS, Settings, TILE, check_size};
 pub use tile::TOUCH;

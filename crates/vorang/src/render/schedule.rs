@@ -213,11 +213,7 @@ pub(crate) struct Placed {
 /// Step 1: node positions to eye space (model from `vol_*`, view from `look_at`) and to
 /// screen. Refuses a singular volume transform, and an `exact` step that would cut a ray into
 /// more pieces than the method allows, which needs the eye-space nodes ([`check_step`]).
-pub(crate) fn place_nodes(
-    vol: &Volume,
-    view: &View,
-    settings: &Settings,
-) -> Result<Placed, Error> {
+pub(crate) fn place_nodes(vol: &Volume, view: &View, settings: &Settings) -> Result<Placed, Error> {
     let bbox = vol.mesh.bbox();
     let model = view.model(bbox.center()).ok_or_else(|| {
         Error::Invalid(

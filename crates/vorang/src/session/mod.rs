@@ -42,7 +42,6 @@ use std::sync::Arc;
 
 pub use frame::{Frame, Hooks, Image, Prepared, timing_line};
 
-
 use crate::formats::hypermesh::{self, Encoding, WriteOptions};
 use crate::framebuffer::{Background, BackgroundImage, format_for};
 use crate::legend::Place;
