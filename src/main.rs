@@ -78,6 +78,10 @@ enum Command {
         /// The image size in pixels.
         #[arg(long, num_args = 2, value_names = ["W", "H"])]
         size: Option<Vec<usize>>,
+        /// Render on the GPU (`backend gpu`: a build with `--features gpu` and a Vulkan
+        /// adapter with 64-bit floats); the default method is then exact linear 0.
+        #[arg(long)]
+        gpu: bool,
         /// Where `s` saves, numbered like `output` (view.0001.png, …).
         #[arg(long, value_name = "FILE", default_value = "view.png")]
         output: PathBuf,
@@ -402,6 +406,7 @@ fn view(runner: &Runner, command: &Command) -> Result<(), String> {
         alphamap,
         method,
         size,
+        gpu,
         output,
         lines,
     } = command
@@ -409,6 +414,9 @@ fn view(runner: &Runner, command: &Command) -> Result<(), String> {
         return Ok(());
     };
     let mut context = runner.context();
+    if *gpu {
+        context.session.set_backend("gpu")?;
+    }
     let (_, notices) = context.session.load_volume(file)?;
     context.report(notices);
     let mut brightness = 1.0;
@@ -429,7 +437,11 @@ fn view(runner: &Runner, command: &Command) -> Result<(), String> {
         context.session.set_alphamap(map)?;
         context.report(w.iter().map(|w| Notice::Warning(w.to_string())));
     }
-    let default_method = format!("interpolateCoeff linear {brightness}");
+    let default_method = if *gpu {
+        format!("exact linear 0 {brightness}")
+    } else {
+        format!("interpolateCoeff linear {brightness}")
+    };
     let words: Vec<&str> = method
         .as_deref()
         .unwrap_or(&default_method)

@@ -618,7 +618,7 @@ type Vec3 = [f64; 3];
 /// `(r, g, b, dx, dy, dz)` tuples, each an `addlight` (they shade `LIT_EMITTER` colormaps; none:
 /// one white light at the camera).
 #[pyfunction]
-#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="exact linear 0", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="off", lights=Vec::new(), view_all=true, zoom=1.0, legend=None, brightness=None, progress=None))]
+#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="exact linear 0", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="off", lights=Vec::new(), view_all=true, zoom=1.0, legend=None, brightness=None, progress=None, backend="cpu"))]
 #[allow(clippy::too_many_arguments)]
 fn render<'py>(
     py: Python<'py>,
@@ -641,6 +641,7 @@ fn render<'py>(
     legend: Option<&str>,
     brightness: Option<f64>,
     progress: Option<Bound<'py, PyAny>>,
+    backend: &str,
 ) -> PyResult<Bound<'py, PyArray3<f32>>> {
     let vol = Arc::clone(&volume.get().inner);
     if persp.is_some() && ortho.is_some() {
@@ -651,6 +652,8 @@ fn render<'py>(
     // The session every front end uses: same setters, same defaults, same checks and messages
     // as the script commands.
     let mut session = Session::new();
+    // `backend="gpu"`: the GPU renders (an error naming what is missing, never the CPU instead).
+    session.set_backend(backend).map_err(session_err)?;
     session.set_volume(Arc::clone(&vol));
     session
         .set_image_size(size.0, size.1)

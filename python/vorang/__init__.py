@@ -57,6 +57,7 @@ def render(
     legend=None,
     brightness=None,
     progress=None,
+    backend="cpu",
 ) -> Image:
     """Renders `volume` back to front; returns a `vorang.Image`: a float32 numpy array of shape
     (h, w, 4) that shows itself in notebooks.
@@ -93,6 +94,10 @@ def render(
     in direction (dx, dy, dz), world coordinates); they shade `LIT_EMITTER` colormaps. None
     given: one white light at the camera.
 
+    backend: "cpu" (default) or "gpu" (`backend gpu`: the exact method on a Vulkan adapter with
+    64-bit floats, in a module built with the `gpu` feature; a ValueError names what is
+    missing, the CPU is never used instead).
+
     progress: called as progress(done, total) as screen tiles finish, or a tqdm-like object
     (with `update`): its `total` is set and update(1) called per tile.
 
@@ -121,6 +126,7 @@ def render(
         legend=legend,
         brightness=None if brightness is None else float(brightness),
         progress=progress,
+        backend=backend,
     )
     transparent = isinstance(background, str) and background in ("none", "transparent")
     return Image(image, transparent=transparent)

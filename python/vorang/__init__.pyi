@@ -101,6 +101,7 @@ def render(
     legend: Optional[str] = None,
     brightness: Optional[float] = None,
     progress: Optional[object] = None,
+    backend: str = "cpu",
 ) -> Image: ...
 def plot(
     data: object,

@@ -50,6 +50,8 @@ pub mod error;
 pub mod field;
 pub mod formats;
 pub mod framebuffer;
+#[cfg(feature = "gpu")]
+pub mod gpu;
 pub mod info;
 pub mod integrate;
 pub mod legend;

@@ -213,6 +213,27 @@ impl Transfer1D {
         self.weighted && self.varying_chi
     }
 
+    /// The table as flat numbers (the GPU's copy): the knots, then per piece `from`, `base`
+    /// (r, g, b, χ) and `slope`, r, g, b before the χ factor of [`Transfer1D::weighted`].
+    pub fn flat(&self) -> Vec<f64> {
+        let mut out = self.knots.clone();
+        for p in &self.pieces {
+            out.push(p.from);
+            out.extend_from_slice(&p.base);
+            out.extend_from_slice(&p.slope);
+        }
+        out
+    }
+
+    pub fn knot_count(&self) -> usize {
+        self.knots.len()
+    }
+
+    /// η = table · χ (ABSORPTION_WEIGHTED).
+    pub fn weighted(&self) -> bool {
+        self.weighted
+    }
+
     /// The field value at barycentric coordinates `lambda` of a cell with node values `v`.
     #[inline]
     pub fn scalar(v: &[f64; 4], lambda: &[f64; 4]) -> f64 {

@@ -69,5 +69,7 @@ pub use schedule::{
     CANCELLED, Stats, TileSink, Timing, Watch, auto_tile, render, render_cancellable,
     render_watched,
 };
+#[cfg(feature = "gpu")]
+pub(crate) use schedule::{Placed, place_nodes};
 pub use settings::{MAX_PIXELS, Settings, TILE, check_size};
 pub use tile::TOUCH;

@@ -201,19 +201,19 @@ pub fn render_watched(
 }
 
 /// The nodes of a frame in eye space and on screen, and how they were put there.
-struct Placed {
+pub(crate) struct Placed {
     /// The transform to eye space has a negative determinant: a mirror turns every
     /// orientation around, accounted for once (the sort's faces, [`Frame::entry_sign`]).
-    mirrored: bool,
-    projector: Projector,
-    eye_nodes: Vec<[f64; 3]>,
-    screen: Vec<[f64; 2]>,
+    pub mirrored: bool,
+    pub projector: Projector,
+    pub eye_nodes: Vec<[f64; 3]>,
+    pub screen: Vec<[f64; 2]>,
 }
 
 /// Step 1: node positions to eye space (model from `vol_*`, view from `look_at`) and to
 /// screen. Refuses a singular volume transform, and an `exact` step that would cut a ray into
 /// more pieces than the method allows, which needs the eye-space nodes ([`check_step`]).
-fn place_nodes(vol: &Volume, view: &View, settings: &Settings) -> Result<Placed, Error> {
+pub(crate) fn place_nodes(vol: &Volume, view: &View, settings: &Settings) -> Result<Placed, Error> {
     let bbox = vol.mesh.bbox();
     let model = view.model(bbox.center()).ok_or_else(|| {
         Error::Invalid(

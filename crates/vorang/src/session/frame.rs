@@ -42,6 +42,9 @@ pub struct Prepared {
     path: Option<PathBuf>,
     /// Warnings of binding the maps.
     notices: Vec<Notice>,
+    /// Which renders it (only the CPU in a build without the GPU backend).
+    #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
+    backend: super::Backend,
 }
 
 impl Prepared {
@@ -53,6 +56,10 @@ impl Prepared {
 
     /// Renders the frame; callable from any thread.
     pub fn render(&self, hooks: &Hooks) -> Result<(Framebuffer, Stats), Error> {
+        #[cfg(feature = "gpu")]
+        if let super::Backend::Gpu(g) = &self.backend {
+            return g.render(&self.volume, &self.mapping, &self.view, &self.settings);
+        }
         let watch = Watch {
             progress: hooks.progress,
             tile: hooks.tile,
@@ -113,6 +120,13 @@ impl Session {
             format_for(&p).map_err(|e| e.to_string())?;
             path = Some(p);
         }
+        #[cfg(feature = "gpu")]
+        if let super::Backend::Gpu(_) = &self.backend {
+            // What the GPU cannot render is said before the frame starts.
+            crate::gpu::frame::check_method(&self.settings.method)
+                .and_then(|_| crate::gpu::frame::check_mapping(&mapping, &volume).map(|_| ()))
+                .map_err(|e| format!("{command}: backend gpu: {e}"))?;
+        }
         let mut notices = warnings(w);
         notices.extend(self.default_notices(command));
         // Count only this render's clamped emission (IDENTITY).
@@ -130,6 +144,7 @@ impl Session {
             },
             path,
             notices,
+            backend: self.backend.clone(),
         })
     }
 

@@ -74,6 +74,22 @@ fn warnings(list: impl IntoIterator<Item = crate::Warning>) -> Vec<Notice> {
         .collect()
 }
 
+/// The GPU backend: the one already open, or a newly opened device.
+#[cfg(feature = "gpu")]
+fn open_gpu(current: &Backend) -> Result<Backend, String> {
+    if let Backend::Gpu(g) = current {
+        return Ok(Backend::Gpu(g.clone()));
+    }
+    crate::gpu::Gpu::open()
+        .map(|g| Backend::Gpu(Arc::new(g)))
+        .map_err(|e| format!("backend gpu: {e}"))
+}
+
+#[cfg(not(feature = "gpu"))]
+fn open_gpu(_: &Backend) -> Result<Backend, String> {
+    Err("backend gpu: this vorang was built without the GPU backend (build it with 'cargo build --release --features gpu')".into())
+}
+
 /// A path for messages: relative to the current folder when it lies inside it.
 pub fn display_path(path: &Path) -> String {
     if path.is_absolute()
@@ -127,6 +143,29 @@ pub struct Session {
     method_set: bool,
     /// The default camera's distortion is pointed out once per session.
     aspect_hinted: bool,
+    /// `backend`: which renders the frames.
+    backend: Backend,
+}
+
+/// Which renders a frame (`backend cpu|gpu`): the front ends never learn which.
+#[derive(Debug, Clone, Default)]
+pub enum Backend {
+    #[default]
+    Cpu,
+    /// The GPU backend (feature `gpu`), opened once and shared.
+    #[cfg(feature = "gpu")]
+    Gpu(Arc<crate::gpu::Gpu>),
+}
+
+impl Backend {
+    /// `cpu` or `gpu <adapter>`.
+    pub fn describe(&self) -> String {
+        match self {
+            Backend::Cpu => "cpu".into(),
+            #[cfg(feature = "gpu")]
+            Backend::Gpu(g) => format!("gpu {}", g.name()),
+        }
+    }
 }
 
 impl Default for Session {
@@ -155,7 +194,29 @@ impl Session {
             alphamap_set: false,
             method_set: false,
             aspect_hinted: false,
+            backend: Backend::Cpu,
         }
+    }
+
+    /// The backend that renders the frames.
+    pub fn backend(&self) -> &Backend {
+        &self.backend
+    }
+
+    /// `backend cpu|gpu`: switches the renderer. `gpu` opens the first Vulkan adapter with
+    /// 64-bit floats (once per session) or says what is missing — never a silent fallback.
+    /// Returns the backend's description (`cpu`, `gpu ADAPTER`).
+    pub fn set_backend(&mut self, name: &str) -> Result<String, String> {
+        match name {
+            "cpu" => self.backend = Backend::Cpu,
+            "gpu" => self.backend = open_gpu(&self.backend)?,
+            other => {
+                return Err(format!(
+                    "backend: unknown backend '{other}': expected cpu or gpu"
+                ));
+            }
+        }
+        Ok(self.backend.describe())
     }
 
     pub fn volume(&self) -> Option<&Arc<Volume>> {

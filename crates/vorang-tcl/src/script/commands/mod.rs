@@ -55,6 +55,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     camera::VOL_ROTATE,
     camera::LOOK_AT,
     rendering::METHOD,
+    rendering::BACKEND,
     rendering::RENDER_BTF,
     rendering::RENDER_FTB,
     view::VIEW,

@@ -26,6 +26,21 @@ pub const METHOD: CommandInfo = CommandInfo {
     },
 };
 
+pub const BACKEND: CommandInfo = CommandInfo {
+    name: "backend",
+    usage: "?cpu|gpu?",
+    summary: "which renders the frames: the CPU (default) or the GPU; without an argument returns the current backend and adapter",
+    details: "'backend gpu' renders 'method exact linear 0 B' with 64-bit floats in Vulkan compute shaders (a build with '--features gpu' and a Vulkan adapter with shaderFloat64, e.g. lavapipe from mesa-vulkan-drivers); the image is the CPU's up to rounding. Without such an adapter, or in a build without the feature, it is an error saying what is missing. Methods the GPU does not render yet are refused at render time; 'backend cpu' switches back.",
+    run: |s: &mut Context, c: &Call| {
+        c.expect(0..=1)?;
+        match c.args() {
+            [] => Ok(s.session.backend().describe()),
+            [name] => s.session.set_backend(name),
+            _ => unreachable!("at most one argument"),
+        }
+    },
+};
+
 /// A progress bar on standard error, shown for renders running longer than a second when
 /// standard error is a terminal.
 struct Progress {
