@@ -1,6 +1,8 @@
 //! The data volume (thesis: `VRxDataGrid`): a tetrahedral mesh together with its raw data and
 //! field distributions, as loaded by the `volume` command and extended by `data [+]`.
 
+use std::sync::Arc;
+
 use crate::data::{DataType, ElementKind, Materials, RawData, ScalarType};
 use crate::error::{Error, ParseError};
 use crate::field::{Field, Interpolator, Origin, Support};
@@ -41,7 +43,9 @@ pub struct DataSet {
 pub struct Volume {
     /// The file it was loaded from (as given).
     pub source: String,
-    pub mesh: TetMesh,
+    /// Shared, so that the steps of a time series with the same points and cells share one
+    /// mesh with its adjacency and sort structures (docs/formats.md, "Time series").
+    pub mesh: Arc<TetMesh>,
     pub coord_type: ScalarType,
     pub edges: Option<Vec<[u32; 2]>>,
     pub triangles: Option<Vec<[u32; 3]>>,
@@ -55,7 +59,7 @@ impl Volume {
     pub fn new(source: String, geometry: Geometry, data: DataSet) -> Result<Volume, ParseError> {
         let vol = Volume {
             source,
-            mesh: geometry.mesh,
+            mesh: Arc::new(geometry.mesh),
             coord_type: geometry.coord_type,
             edges: geometry.edges,
             triangles: geometry.triangles,
@@ -100,6 +104,30 @@ impl Volume {
         Ok(())
     }
 
+    /// A volume on `like`'s geometry (the same shared mesh, edges and triangles) with other
+    /// data: a time step whose points and cells have not changed, which allocates only its
+    /// fields (docs/formats.md, "Time series"). The fields are checked as [`Volume::new`] checks
+    /// them.
+    pub fn sharing_geometry(
+        like: &Volume,
+        source: String,
+        data: DataSet,
+    ) -> Result<Volume, ParseError> {
+        let vol = Volume {
+            source,
+            mesh: Arc::clone(&like.mesh),
+            coord_type: like.coord_type,
+            edges: like.edges.clone(),
+            triangles: like.triangles.clone(),
+            data,
+            tet_edges: like.tet_edges.clone(),
+        };
+        for f in &vol.data.fields {
+            vol.check_field(f)?;
+        }
+        Ok(vol)
+    }
+
     /// A volume without data around a validated mesh (coordinates written back as double).
     pub fn from_mesh(source: impl Into<String>, mesh: TetMesh) -> Volume {
         let mut data = DataSet::default();
@@ -107,7 +135,7 @@ impl Volume {
         data.counts[ElementKind::Tetrahedron.index()] = Some(mesh.tet_count());
         Volume {
             source: source.into(),
-            mesh,
+            mesh: Arc::new(mesh),
             coord_type: ScalarType::Double,
             edges: None,
             triangles: None,

@@ -49,10 +49,27 @@ pub use cells::split_cell;
 pub const MIN_MAGNITUDE: f64 = 1e-50;
 
 /// Builds the volume; warnings (skipped cells, re-oriented tetrahedra) are returned.
-pub fn volume(mut desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseError> {
+pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseError> {
+    volume_with_shape(desc).map(|(vol, _, warnings)| (vol, warnings))
+}
+
+/// What a volume's fields are built on besides its mesh: the file's cell each tetrahedron was
+/// cut from, and the mid-edge nodes of quadratic cells. A time series keeps it with a step so
+/// that the next step with the same points and cells builds only its fields ([`fields_on`]).
+#[derive(Debug, Clone)]
+pub struct Shape {
+    parent: Vec<u32>,
+    midpoints: HashMap<(u32, u32), u32>,
+}
+
+/// [`volume`], with the [`Shape`] its fields were built on (`None` for a `.vtu` that VoRANG
+/// wrote: its layout rebuilds the volume as it was, fields included).
+pub fn volume_with_shape(
+    mut desc: MeshDescription,
+) -> Result<(Volume, Option<Shape>, Vec<Warning>), ParseError> {
     // A .vtu that VoRANG wrote: its layout gives back the volume exactly.
     if let Some(done) = super::layout::volume(&mut desc) {
-        return done;
+        return done.map(|(vol, warnings)| (vol, None, warnings));
     }
     let MeshDescription {
         source,
@@ -142,6 +159,43 @@ pub fn volume(mut desc: MeshDescription) -> Result<(Volume, Vec<Warning>), Parse
         tet_edges,
     };
     let vol = Volume::new(source, geometry, data)?;
+    Ok((vol, Some(Shape { parent, midpoints }), warnings))
+}
+
+/// The volume of `desc` on the geometry of `like`, whose mesh was built from the same points
+/// and cells with `shape`: only the fields are built, the mesh (with its adjacency and sort
+/// structures), edges and triangles are shared. The caller has checked that the points and
+/// cells are the same.
+pub fn fields_on(
+    desc: MeshDescription,
+    like: &Volume,
+    shape: &Shape,
+) -> Result<(Volume, Vec<Warning>), ParseError> {
+    let MeshDescription {
+        source,
+        point_arrays,
+        cell_arrays,
+        cells,
+        warnings,
+        ..
+    } = desc;
+    for a in point_arrays.iter() {
+        fields::check_array(&source, a, like.mesh.node_count(), "points")?;
+    }
+    for a in cell_arrays.iter() {
+        fields::check_array(&source, a, cells.len(), "cells")?;
+    }
+    drop(cells);
+    let data = fields::data_set(
+        &source,
+        &like.mesh,
+        like.edges.as_deref(),
+        &shape.midpoints,
+        point_arrays,
+        cell_arrays,
+        &shape.parent,
+    );
+    let vol = Volume::sharing_geometry(like, source, data)?;
     Ok((vol, warnings))
 }
 
