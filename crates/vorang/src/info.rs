@@ -49,6 +49,16 @@ pub fn describe_volume(vol: &Volume, encoding: &str) -> String {
 /// The report for a volume read from a file of the given format (e.g. `VTK XML
 /// UnstructuredGrid`).
 pub fn describe_volume_as(vol: &Volume, format: &str) -> String {
+    describe_volume_over(vol, format, None)
+}
+
+/// Each field's range per component (`None` for fields without one), as a collection's
+/// report gives them over all its steps.
+pub type Ranges = [Option<Vec<(f64, f64)>>];
+
+/// [`describe_volume_as`], with the fields' ranges given (`over`: a time series' ranges over
+/// all its steps) instead of taken from the volume.
+fn describe_volume_over(vol: &Volume, format: &str, over: Option<(&Ranges, usize)>) -> String {
     let mut s = String::new();
     let m = &vol.mesh;
     let _ = writeln!(s, "file         {} ({format})", vol.source);
@@ -91,7 +101,46 @@ pub fn describe_volume_as(vol: &Volume, format: &str) -> String {
             num(hi)
         );
     }
-    describe_data(&mut s, &vol.data, Some(vol));
+    describe_data(&mut s, &vol.data, Some(vol), over);
+    s
+}
+
+/// The report for a collection (`vorang info flow.pvd`): its steps with their times and files,
+/// then step 0 with every field's range over all steps (`ranges`), which the `try` line uses.
+pub fn describe_series(
+    vol: &Volume,
+    series: &crate::formats::collection::Series,
+    ranges: &Ranges,
+) -> String {
+    let mut s = String::new();
+    let (first, last) = series.time_range();
+    let kind = series.kind.noun();
+    let _ = writeln!(s, "collection   {} ({kind})", series.source);
+    let _ = writeln!(
+        s,
+        "steps        {}, t = {} … {}",
+        series.len(),
+        num(first),
+        num(last)
+    );
+    for (i, step) in series.steps.iter().enumerate() {
+        let files: Vec<String> = step
+            .parts
+            .iter()
+            .map(|p| p.path.display().to_string())
+            .collect();
+        let _ = writeln!(
+            s,
+            "  {i:>4}  t = {:<12} {}",
+            num(step.time),
+            files.join(", ")
+        );
+    }
+    s.push_str(&describe_volume_over(
+        vol,
+        "step 0",
+        Some((ranges, series.len())),
+    ));
     s
 }
 
@@ -104,7 +153,7 @@ pub fn describe_data_only(name: &str, label: &str, data: &DataSet) -> String {
             let _ = writeln!(s, "{:<12} {n}", kind.count_keyword());
         }
     }
-    describe_data(&mut s, data, None);
+    describe_data(&mut s, data, None, None);
     s
 }
 
@@ -125,10 +174,31 @@ pub fn describe(described: &crate::formats::Described, check: bool) -> (String, 
         crate::formats::Described::Data { name, label, data } => {
             (describe_data_only(name, label, data), true)
         }
+        crate::formats::Described::Series {
+            volume,
+            series,
+            ranges,
+        } => {
+            let mut text = describe_series(volume, series, ranges);
+            let mut clean = true;
+            if check {
+                let (line, ok) = check_overlaps(&volume.mesh);
+                text.push_str(&line);
+                clean = ok;
+            }
+            (text, clean)
+        }
     }
 }
 
-fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {
+/// The fields of `data` with their ranges: the volume's own, or `over` (ranges over the
+/// given number of time steps).
+fn describe_data(
+    s: &mut String,
+    data: &DataSet,
+    vol: Option<&Volume>,
+    over: Option<(&Ranges, usize)>,
+) {
     if let Some(mats) = &data.materials {
         let _ = writeln!(s, "materials    {}", mats.list.len());
         for m in &mats.list {
@@ -176,12 +246,16 @@ fn describe_data(s: &mut String, data: &DataSet, vol: Option<&Volume>) {
             {
                 let _ = writeln!(s, "     try   {line}");
             }
-        } else if let Some(range) = vol.and_then(|v| v.field_range(i)) {
+        } else if let Some(range) = match over {
+            Some((ranges, _)) => ranges.get(i).cloned().flatten(),
+            None => vol.and_then(|v| v.field_range(i)),
+        } {
             let parts: Vec<String> = range
                 .iter()
                 .map(|(a, b)| format!("[{}, {}]", num(*a), num(*b)))
                 .collect();
-            let _ = writeln!(s, "     range {}", parts.join(" "));
+            let steps = over.map_or(String::new(), |(_, n)| format!(" over all {n} steps"));
+            let _ = writeln!(s, "     range {}{steps}", parts.join(" "));
             if let (Some(v), [(lo, hi)]) = (vol, range.as_slice())
                 && let Some(line) = first_picture(v, &i.to_string(), *lo, *hi)
             {

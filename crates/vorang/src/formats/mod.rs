@@ -15,6 +15,7 @@
 //! content no reader recognises gets a clear error naming the formats tried.
 
 pub mod build;
+pub mod collection;
 pub mod hypermesh;
 pub mod layout;
 pub mod msh;
@@ -207,6 +208,13 @@ pub enum Described {
         label: String,
         data: crate::volume::DataSet,
     },
+    /// A collection ([`collection::Series`]): its step 0, and per field of step 0 its range
+    /// over every step.
+    Series {
+        volume: Volume,
+        series: collection::Series,
+        ranges: Vec<Option<Vec<(f64, f64)>>>,
+    },
 }
 
 /// One registry entry: how to recognise a format and everything VoRANG does with its files.
@@ -268,9 +276,14 @@ macro_rules! described_format {
 }
 
 /// Every format, HyperMesh first (the fallback for unknown extensions when writing, and for
-/// text no other format recognises when reading: its reader reports on the title line).
+/// text no other format recognises when reading: its reader reports on the title line). The
+/// collections come before `.vtu`, whose content test takes any VTK XML file.
 pub const FORMATS: &[Format] = &[
     hypermesh::FORMAT,
+    collection::PVD,
+    collection::PVTU,
+    collection::VTM,
+    collection::SERIES,
     described_format!(
         "VTK XML UnstructuredGrid",
         &["vtu"],
@@ -359,6 +372,14 @@ pub fn read_description(bytes: &[u8], name: &str) -> Result<MeshDescription, Par
         Some(Format {
             read: Some(read), ..
         }) => read(bytes, name),
+        Some(f) if collection::Kind::of_format(f).is_some() => Err(ParseError::new(
+            name,
+            1,
+            format!(
+                "this is a {} file: read it as a collection (collection::Series)",
+                f.name
+            ),
+        )),
         Some(_) => Err(ParseError::new(
             name,
             1,
@@ -444,7 +465,8 @@ fn looks_binary(bytes: &[u8]) -> bool {
 /// Whether a file is a HyperMesh file (or of unknown format and text, which the HyperMesh
 /// reader then reports on).
 pub fn is_hypermesh(bytes: &[u8], path: &Path) -> bool {
-    format_to_read(bytes, path).is_ok_and(|f| f.read.is_none())
+    format_to_read(bytes, path)
+        .is_ok_and(|f| f.read.is_none() && collection::Kind::of_format(f).is_none())
 }
 
 /// Writes a volume in the format its file name asks for: `.vtu` (binary appended, zlib) or
