@@ -213,7 +213,7 @@ pub enum Described {
     Series {
         volume: Volume,
         series: collection::Series,
-        ranges: Vec<Option<Vec<(f64, f64)>>>,
+        ranges: collection::FieldRanges,
     },
 }
 

@@ -8,6 +8,7 @@
 //! horizontal bars below.
 
 mod font;
+pub mod label;
 mod scale;
 
 pub use scale::ColorScale;
@@ -284,37 +285,34 @@ pub fn draw(fb: &mut Framebuffer, place: Place, scale: &ColorScale) -> bool {
                 layout.y1 + gap,
             )
         };
-        for (i, c) in label.text.chars().enumerate() {
-            for fy in 0..font::HEIGHT {
-                for fx in 0..font::WIDTH {
-                    if font::ink(c, fx, fy) {
-                        for dy in 0..s {
-                            for dx in 0..s {
-                                ink.push((
-                                    tx + (i * font::ADVANCE + fx) * s + dx,
-                                    ty + fy * s + dy,
-                                ));
-                            }
-                        }
-                    }
-                }
-            }
-        }
+        font::ink_of(&label.text, tx, ty, s, &mut ink);
     }
-    for &(x, y) in &ink {
+    paint(fb, &ink, |x, y| !layout.in_bar(x, y));
+    true
+}
+
+/// Paints text (the pixels `ink`) white with a black outline one pixel wide, the outline only
+/// where `outline(x, y)`: readable on any background.
+fn paint(fb: &mut Framebuffer, ink: &[(usize, usize)], outline: impl Fn(usize, usize) -> bool) {
+    let (w, h) = (fb.width, fb.height);
+    let mut set = |x: usize, y: usize, v: f32| {
+        if x < w && y < h {
+            fb.pixels[y * w + x] = [v, v, v, 1.0];
+        }
+    };
+    for &(x, y) in ink {
         for dy in -1i64..=1 {
             for dx in -1i64..=1 {
                 let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-                if nx >= 0 && ny >= 0 && !layout.in_bar(nx as usize, ny as usize) {
-                    set(nx as usize, ny as usize, [0.0; 3]);
+                if nx >= 0 && ny >= 0 && outline(nx as usize, ny as usize) {
+                    set(nx as usize, ny as usize, 0.0);
                 }
             }
         }
     }
-    for &(x, y) in &ink {
-        set(x, y, [1.0; 3]);
+    for &(x, y) in ink {
+        set(x, y, 1.0);
     }
-    true
 }
 
 #[cfg(test)]

@@ -1,5 +1,5 @@
-//! One frame: bind the maps → render → legend → the messages → the numbered file or the movie's
-//! next frame (`render_btf` / `render_ftb`, thesis A.1).
+//! One frame: bind the maps → render → legend and time label → the messages → the numbered file
+//! or the movie's next frame (`render_btf` / `render_ftb`, thesis A.1).
 //!
 //! The step comes in three parts so that a front end can stand between them: [`Session::prepare`]
 //! binds the maps and checks where the image will go, [`Prepared::render`] renders (on any
@@ -219,6 +219,10 @@ impl Session {
                 }
                 Err(e) => notices.push(Notice::Warning(format!("{command}: no legend: {e}"))),
             }
+        }
+        if let Some(text) = self.label_text() {
+            // Clear of the legend: at the bottom where the bar runs along the top.
+            legend::label::draw(&mut fb, &text, self.legend == Some(legend::Place::Top));
         }
         Self::stats_notices(command, &stats, &mut notices);
         Ok(Image {

@@ -34,6 +34,7 @@
 
 mod frame;
 mod script;
+mod series;
 
 pub use script::{commands_for, method_command};
 
@@ -143,6 +144,11 @@ pub struct Session {
     method_set: bool,
     /// The default camera's distortion is pointed out once per session.
     aspect_hinted: bool,
+    /// The collection the volume is a step of (`volume` on a `.pvd`, `.pvtu`, `.vtm`,
+    /// `.series`), with the step shown.
+    series: Option<series::Shown>,
+    /// `label FORMAT`: the step's time printed into every image.
+    label: Option<String>,
     /// `backend`: which renders the frames.
     backend: Backend,
 }
@@ -194,6 +200,8 @@ impl Session {
             alphamap_set: false,
             method_set: false,
             aspect_hinted: false,
+            series: None,
+            label: None,
             backend: Backend::Cpu,
         }
     }
@@ -263,8 +271,12 @@ impl Session {
 
     /// `volume FILE`: loads a grid with its data; maps, transforms and camera return to their
     /// defaults (thesis A.1). On an error the previous volume stays. Returns the summary
-    /// ("N nodes, M tetrahedra, K fields").
+    /// ("N nodes, M tetrahedra, K fields"). A collection (`.pvd`, `.pvtu`, `.vtm`, `.series`)
+    /// loads its step 0, and the summary adds its steps and their time range.
     pub fn load_volume(&mut self, path: &Path) -> Result<(String, Vec<Notice>), String> {
+        if let Some(loaded) = self.load_collection(path)? {
+            return Ok(loaded);
+        }
         let (vol, w) = Volume::load(path).map_err(|e| e.to_string())?;
         let summary = format!(
             "{} nodes, {} tetrahedra, {}",
@@ -299,6 +311,7 @@ impl Session {
             dropped.push("look_at");
         }
         self.volume = Some(vol);
+        self.series = None;
         self.colormap = ColorMap::default_map();
         self.alphamap = AlphaMap::default_map();
         self.view = View::default();

@@ -110,3 +110,16 @@ pub const LEGEND: CommandInfo = CommandInfo {
         Ok(String::new())
     },
 };
+
+pub const LABEL: CommandInfo = CommandInfo {
+    name: "label",
+    usage: "format|off",
+    summary: "print the shown time step into every image and movie frame: 'label \"t = %.3g s\"' (%g, %f, %e: the step's time; %d: its number); 'label off' removes it",
+    details: "Default: off. The format is C's printf, as Tcl's 'format' reads it (flags, width and precision included; %% is a percent sign). White text with a black outline in the top left corner (bottom left when the legend is on top), in the legend's font. A volume that is no collection is step 0 at time 0.",
+    run: |s: &mut Context, c: &Call| {
+        c.expect(1..=1)?;
+        let word = &c.args()[0];
+        s.session.set_label((word != "off").then(|| word.clone()))?;
+        Ok(String::new())
+    },
+};

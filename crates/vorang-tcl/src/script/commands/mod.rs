@@ -9,6 +9,7 @@ mod image;
 mod lights;
 mod maps;
 mod rendering;
+mod series;
 mod view;
 
 use std::path::{Path, PathBuf};
@@ -41,12 +42,15 @@ pub const COMMANDS: &[CommandInfo] = &[
     data::DATA,
     data::SAVE_VOLUME,
     data::SAVE_SUBSET,
+    series::TIMESTEP,
+    series::TIMESTEPS,
     lights::ADDLIGHT,
     lights::REMOVELIGHT,
     maps::COLORMAP,
     maps::ALPHAMAP,
     maps::LINEDRAW,
     maps::LEGEND,
+    maps::LABEL,
     camera::PERSP_CAMERA,
     camera::ORTHO_CAMERA,
     camera::VIEW_ALL,

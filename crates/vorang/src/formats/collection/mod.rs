@@ -35,6 +35,10 @@ use super::{Described, DescribedFile, Format, Loaded, format_to_read, read_bytes
 use crate::error::{Error, ParseError, Warning};
 use std::path::PathBuf;
 
+/// Per field, its range per component (`None` for a field without one): what
+/// [`Series::ranges`] gives over all steps.
+pub type FieldRanges = Vec<Option<Vec<(f64, f64)>>>;
+
 /// One file a collection lists: the time it belongs to, its name as written, and the line.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Entry {

@@ -10,7 +10,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use super::merge::{Merge, PieceLabel};
-use super::{Kind, Series, pvtu, vtm};
+use super::{FieldRanges, Kind, Series, pvtu, vtm};
 use crate::data::ScalarType;
 use crate::error::{Error, ParseError, Warning};
 use crate::formats::build::{self, Shape};
@@ -144,10 +144,9 @@ impl Series {
 
     /// Per field of the first step: its range (per component) over every step, each step
     /// loaded on the mesh of the one before it. `first` is a loaded step of this series.
-    pub fn ranges(&self, first: &StepVolume) -> Result<Vec<Option<Vec<(f64, f64)>>>, Error> {
+    pub fn ranges(&self, first: &StepVolume) -> Result<FieldRanges, Error> {
         let n = first.volume.data.fields.len();
-        let mut out: Vec<Option<Vec<(f64, f64)>>> =
-            (0..n).map(|i| first.volume.field_range(i)).collect();
+        let mut out: FieldRanges = (0..n).map(|i| first.volume.field_range(i)).collect();
         let mut previous = first.clone();
         for index in (0..self.steps.len()).filter(|&i| i != first.index) {
             let (step, _) = self.load_step(index, Some(&previous))?;
@@ -166,12 +165,12 @@ impl Series {
     }
 }
 
+/// A step's volume, with what the next step needs to share its mesh.
+type Built = (Arc<Volume>, Option<Reuse>, Vec<Warning>);
+
 /// The volume of a step's description: on the previous step's mesh where the points and
 /// cells are the same, built anew otherwise.
-fn build_step(
-    desc: MeshDescription,
-    previous: Option<&StepVolume>,
-) -> Result<(Arc<Volume>, Option<Reuse>, Vec<Warning>), ParseError> {
+fn build_step(desc: MeshDescription, previous: Option<&StepVolume>) -> Result<Built, ParseError> {
     let cells = cells_digest(&desc);
     if let Some((prev, reuse)) = previous.and_then(|p| Some((p, p.same_grid(&desc, cells)?))) {
         let (vol, w) = build::fields_on(desc, &prev.volume, &reuse.shape)?;
@@ -293,12 +292,15 @@ fn read_blocks(
         {
             let block = leaf
                 .name
-                .map(|n| format!("block \"{n}\" ({})", inner.file))
-                .unwrap_or_else(|| format!("block {}", inner.file));
+                .map(|n| format!("block \"{n}\""))
+                .unwrap_or_else(|| "a block".into());
             warnings.push(Warning {
                 file: shown.to_string(),
                 line: Some(leaf.entry.line),
-                message: format!("{block} is a {ty}, not an unstructured grid: skipped"),
+                message: format!(
+                    "{block} is a {ty}, not an unstructured grid: skipped ({})",
+                    inner.file
+                ),
             });
             continue;
         }

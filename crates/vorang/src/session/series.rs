@@ -1,0 +1,166 @@
+//! Time steps: the session's collection ([`Series`]) and the step it shows.
+//!
+//! `volume FILE` on a collection (`.pvd`, `.pvtu`, `.vtm`, `.series`) loads step 0 and keeps
+//! the series; `timestep` shows another step. Unlike `volume`, a new step keeps the whole
+//! scene — camera, transforms, maps, method, image settings: only the data change, as in a
+//! solver's output, so that an animation is a loop over the steps (docs/formats.md, "Time
+//! series and collections"). A step with the same points and cells as the one shown is built on
+//! its mesh (only its fields are new). A volume that is no collection counts as one step at
+//! time 0.
+//!
+//! The label (`label "t = %.3g s"`) prints the shown step's time into every image
+//! ([`crate::legend::label`]).
+
+use std::path::Path;
+use std::sync::Arc;
+
+use super::{Notice, Session, fields, warnings};
+use crate::formats::collection::{self, Series, StepVolume};
+use crate::info::num;
+use crate::legend::label;
+
+/// A collection and the step the session shows.
+pub(super) struct Shown {
+    pub(super) series: Arc<Series>,
+    pub(super) step: StepVolume,
+}
+
+impl Session {
+    /// `volume COLLECTION`: step 0 of a collection, with `volume`'s resets; `None` where `path`
+    /// is a single mesh file.
+    pub(super) fn load_collection(
+        &mut self,
+        path: &Path,
+    ) -> Result<Option<(String, Vec<Notice>)>, String> {
+        let Some((series, first, w)) = collection::open(path).map_err(|e| e.to_string())? else {
+            return Ok(None);
+        };
+        let vol = &first.volume;
+        let (t0, t1) = series.time_range();
+        let steps = series.len();
+        let summary = format!(
+            "{} nodes, {} tetrahedra, {}; {steps} time step{}, t = {} … {}",
+            vol.mesh.node_count(),
+            vol.mesh.tet_count(),
+            fields(vol.data.fields.len()),
+            if steps == 1 { "" } else { "s" },
+            num(t0),
+            num(t1)
+        );
+        let mut notices = warnings(w);
+        notices.extend(self.set_step(Arc::new(series), first));
+        Ok(Some((summary, notices)))
+    }
+
+    /// A collection and one of its loaded steps, with `volume`'s resets (Python's
+    /// `render(series, step=…)`).
+    pub fn set_step(&mut self, series: Arc<Series>, step: StepVolume) -> Option<Notice> {
+        let notice = self.set_volume(Arc::clone(&step.volume));
+        self.series = Some(Shown { series, step });
+        notice
+    }
+
+    /// The collection the shown volume belongs to, if any.
+    pub fn series(&self) -> Option<&Arc<Series>> {
+        self.series.as_ref().map(|s| &s.series)
+    }
+
+    /// The shown step's number and time: `(0, 0.0)` for a volume that is no collection; `None`
+    /// without a volume.
+    pub fn timestep(&self) -> Option<(usize, f64)> {
+        match &self.series {
+            Some(s) => Some((s.step.index, s.series.steps[s.step.index].time)),
+            None => self.volume.as_ref().map(|_| (0, 0.0)),
+        }
+    }
+
+    /// Every step's time (`[0.0]` for a volume that is no collection, none without a volume).
+    pub fn timesteps(&self) -> Vec<f64> {
+        match &self.series {
+            Some(s) => s.series.times(),
+            None => self.volume.iter().map(|_| 0.0).collect(),
+        }
+    }
+
+    /// The number of the step nearest time `t` (the earlier one on a tie).
+    pub fn nearest_timestep(&self, t: f64) -> Result<usize, String> {
+        self.need_volume("timestep")?;
+        if !t.is_finite() {
+            return Err(format!("timestep: the time {t} is not a finite number"));
+        }
+        Ok(self.series.as_ref().map_or(0, |s| s.series.nearest(t)))
+    }
+
+    /// The number of the last step.
+    pub fn last_timestep(&self) -> Result<usize, String> {
+        self.need_volume("timestep")?;
+        Ok(self.series.as_ref().map_or(0, |s| s.series.len() - 1))
+    }
+
+    /// `timestep N`: shows step `index`; camera, transforms, maps, method and image settings
+    /// stay. The maps and grid lines are checked against the step's fields: on an error the
+    /// shown step stays.
+    pub fn set_timestep(&mut self, index: usize) -> Result<Vec<Notice>, String> {
+        self.need_volume("timestep")?;
+        let Some(shown) = &self.series else {
+            return match index {
+                0 => Ok(Vec::new()),
+                _ => Err(format!(
+                    "timestep: step {index} is out of range: the volume is one step (0 … 0); load a collection (.pvd, .pvtu, .vtm, .series) for more"
+                )),
+            };
+        };
+        if index >= shown.series.len() {
+            return Err(format!(
+                "timestep: step {index} is out of range: {} has {}",
+                super::display_path(Path::new(&shown.series.source)),
+                shown.series.range_text()
+            ));
+        }
+        if index == shown.step.index {
+            return Ok(Vec::new());
+        }
+        let (step, w) = shown
+            .series
+            .load_step(index, Some(&shown.step))
+            .map_err(|e| format!("timestep: {e}"))?;
+        crate::mapping::Mapping::new(&self.colormap, &self.alphamap, &step.volume)
+            .map_err(|e| e.to_string())
+            .and_then(|_| self.check_lines(&step))
+            .map_err(|e| format!("timestep {index}: {e}"))?;
+        if let Some(shown) = &mut self.series {
+            self.volume = Some(Arc::clone(&step.volume));
+            shown.step = step;
+        }
+        Ok(warnings(w))
+    }
+
+    /// `label FORMAT` (`Some`) or `label off` (`None`): the shown step's time in every image.
+    pub fn set_label(&mut self, format: Option<String>) -> Result<(), String> {
+        if let Some(f) = &format {
+            label::format(f, 0.0, 0).map_err(|e| format!("label: {e}"))?;
+        }
+        self.label = format;
+        Ok(())
+    }
+
+    /// The label's format, if one is set.
+    pub fn label(&self) -> Option<&str> {
+        self.label.as_deref()
+    }
+
+    /// The label's text for the shown step.
+    pub(super) fn label_text(&self) -> Option<String> {
+        let format = self.label.as_ref()?;
+        let (index, time) = self.timestep().unwrap_or((0, 0.0));
+        label::format(format, time, index).ok()
+    }
+
+    fn check_lines(&self, step: &StepVolume) -> Result<(), String> {
+        if let crate::render::LineDraw::Cells { .. } = &self.settings.lines {
+            crate::render::lines::edges(&step.volume, &self.settings.lines)
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+}
