@@ -66,7 +66,9 @@ fn the_guide_s_examples_load_and_render() {
                 std::fs::write(tmp.path().join(name), body).unwrap();
                 files.push(name.to_string());
             }
-            (Some("tcl"), _) => script = Some(body),
+            // The first Tcl block is the example of these files; the time-series one has a
+            // test of its own.
+            (Some("tcl"), _) if script.is_none() => script = Some(body),
             _ => {}
         }
     }
@@ -94,6 +96,33 @@ fn the_guide_s_examples_load_and_render() {
             w.display()
         );
     }
+}
+
+/// The guide's time-series example runs on `tests/data/series/flow.pvd` and writes one movie
+/// frame per step.
+#[test]
+fn the_guide_s_time_series_example_renders_every_step() {
+    let body = blocks(&guide())
+        .into_iter()
+        .find(|(info, body)| info == "tcl" && body.contains("timestep"))
+        .map(|(_, body)| body)
+        .expect("the guide's time-series example");
+    let flow = repo().join("tests/data/series/flow.pvd");
+    assert!(body.contains("volume flow.pvd"), "{body}");
+    let tmp = tempfile::tempdir().unwrap();
+    let path = tmp.path().join("series.tcl");
+    let script = body.replace("volume flow.pvd", &format!("volume {{{}}}", flow.display()));
+    std::fs::write(&path, format!("imagesize 48 40\n{script}")).unwrap();
+    let mut runner = Runner::new(Box::new(Collect::default()));
+    runner
+        .run_file(&path)
+        .unwrap_or_else(|e| panic!("{e}\n{}", e.trace));
+    let movie = tmp.path().join("flow.gif");
+    let file = std::fs::File::open(&movie).unwrap();
+    let frames = image::codecs::gif::GifDecoder::new(std::io::BufReader::new(file))
+        .map(|d| image::AnimationDecoder::into_frames(d).count())
+        .unwrap();
+    assert_eq!(frames, 3);
 }
 
 /// `docs/images/make.tcl` renders every picture of the guide from the guide's own map blocks:

@@ -1,22 +1,24 @@
 //! The `vorang._vorang` extension module: numpy arrays in, numpy images out, over the core
 //! library. The pure-Python package `vorang` (python/vorang/__init__.py) re-exports it and adds
 //! the map helpers.
+//!
+//! This file holds `Volume` and the image functions; `render` and `animate` (`render`) set a
+//! scene from their keywords (`scene`) on a volume or a step of a `Series` (`series`).
 
-use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
+mod render;
+mod scene;
+mod series;
 
-use numpy::ndarray::Array3;
-use numpy::{IntoPyArray, PyArray3, PyReadonlyArrayDyn};
-use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
+use std::path::PathBuf;
+use std::sync::Arc;
+
+use numpy::{IntoPyArray, PyReadonlyArrayDyn};
+use pyo3::exceptions::{PyOSError, PyValueError};
 use pyo3::prelude::*;
-use pyo3::types::{PyDict, PyString};
+use pyo3::types::PyDict;
 
 use vorang::formats::{self, Array, ArrayValues, Cells, MeshDescription, cell_type};
-use vorang::framebuffer::{Background, Framebuffer, write_image};
-use vorang::mapping::{AlphaMap, AlphaShading, ColorMap, ColorShading, parse_map, read_map};
-use vorang::render::{LineDraw, Method, Order};
-use vorang::scene::{Camera, Light, LookAt, TransformOp};
-use vorang::session::{Hooks, Notice, Prepared, Session};
+use vorang::framebuffer::{Framebuffer, write_image};
 use vorang::{Error, ParseError};
 
 /// The core's error as a Python exception: files → `OSError`, everything else → `ValueError`.
@@ -29,8 +31,8 @@ fn py_err(e: Error) -> PyErr {
 
 /// A tetrahedral mesh with its fields (the core's `Volume`).
 #[pyclass(name = "Volume", module = "vorang", frozen)]
-struct PyVolume {
-    inner: Arc<vorang::Volume>,
+pub(crate) struct PyVolume {
+    pub(crate) inner: Arc<vorang::Volume>,
 }
 
 /// `numpy.asarray(obj)` with its dtype kind ('f', 'i', 'u', 'b', …) and shape.
@@ -330,25 +332,7 @@ impl PyVolume {
     /// the mesh, as `vorang info` prints it; ValueError for vector fields and unknown names.
     fn field_range(&self, field: &Bound<'_, PyAny>) -> PyResult<(f64, f64)> {
         let vol = &self.inner;
-        let i = if let Ok(i) = field.extract::<usize>() {
-            i
-        } else {
-            let name: String = field.extract()?;
-            vol.data
-                .fields
-                .iter()
-                .position(|f| f.name.as_deref() == Some(name.as_str()))
-                .ok_or_else(|| {
-                    PyValueError::new_err(format!(
-                        "no field named {name:?}; the fields are {:?}",
-                        vol.data
-                            .fields
-                            .iter()
-                            .map(|f| f.name.clone().unwrap_or_default())
-                            .collect::<Vec<_>>()
-                    ))
-                })?
-        };
+        let i = field_number(vol, field)?;
         match vol.field_range(i).as_deref() {
             Some([(lo, hi)]) => Ok((*lo, *hi)),
             Some(r) => Err(PyValueError::new_err(format!(
@@ -424,436 +408,35 @@ impl PyVolume {
     }
 }
 
+/// The number of the field `field` names: a number, or a name (ValueError naming the fields
+/// for an unknown one).
+fn field_number(vol: &vorang::Volume, field: &Bound<'_, PyAny>) -> PyResult<usize> {
+    if let Ok(i) = field.extract::<usize>() {
+        return Ok(i);
+    }
+    let name: String = field.extract()?;
+    vol.data
+        .fields
+        .iter()
+        .position(|f| f.name.as_deref() == Some(name.as_str()))
+        .ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "no field named {name:?}; the fields are {:?}",
+                vol.data
+                    .fields
+                    .iter()
+                    .map(|f| f.name.clone().unwrap_or_default())
+                    .collect::<Vec<_>>()
+            ))
+        })
+}
+
 fn warn_all(py: Python<'_>, msgs: impl Iterator<Item = String>) -> PyResult<()> {
     let warnings = py.import("warnings")?;
     for m in msgs {
         warnings.call_method1("warn", (m,))?;
     }
     Ok(())
-}
-
-/// A map argument: None (the script's default), a path, map text ("# VoRANG …") or an object
-/// with a `text` attribute (vorang.Colormap / vorang.Alphamap).
-enum MapArg {
-    Default,
-    Path(PathBuf),
-    Text(String),
-}
-
-fn map_arg(obj: Option<&Bound<'_, PyAny>>, what: &str) -> PyResult<MapArg> {
-    let Some(obj) = obj else {
-        return Ok(MapArg::Default);
-    };
-    if obj.is_none() {
-        return Ok(MapArg::Default);
-    }
-    if let Ok(s) = obj.cast::<PyString>() {
-        let s = s.to_string();
-        let t = s.trim_start_matches('\u{feff}').trim_start();
-        if t.starts_with("# VoRANG") || t.starts_with("#VoRANG") {
-            return Ok(MapArg::Text(s));
-        }
-        return Ok(MapArg::Path(PathBuf::from(s)));
-    }
-    if let Ok(text) = obj.getattr("text") {
-        return Ok(MapArg::Text(text.extract()?));
-    }
-    if let Ok(p) = obj.extract::<PathBuf>() {
-        return Ok(MapArg::Path(p));
-    }
-    Err(PyValueError::new_err(format!(
-        "{what}: expected a map file path, a map text ('# VoRANG …') or a vorang map object, found {}",
-        obj.get_type().name()?
-    )))
-}
-
-/// A map with the warnings of reading it (`None`: the session keeps its default).
-type MapRead<T> = Option<(T, Vec<vorang::Warning>)>;
-
-fn load_color(arg: MapArg) -> PyResult<MapRead<ColorMap>> {
-    match arg {
-        MapArg::Default => Ok(None),
-        MapArg::Path(p) => read_map::<dyn ColorShading>(&p).map(Some).map_err(py_err),
-        MapArg::Text(t) => parse_map::<dyn ColorShading>(t.as_bytes(), "<colormap>")
-            .map(Some)
-            .map_err(|e| PyValueError::new_err(e.to_string())),
-    }
-}
-
-fn load_alpha(arg: MapArg) -> PyResult<MapRead<AlphaMap>> {
-    match arg {
-        MapArg::Default => Ok(None),
-        MapArg::Path(p) => read_map::<dyn AlphaShading>(&p).map(Some).map_err(py_err),
-        MapArg::Text(t) => parse_map::<dyn AlphaShading>(t.as_bytes(), "<alphamap>")
-            .map(Some)
-            .map_err(|e| PyValueError::new_err(e.to_string())),
-    }
-}
-
-fn is_none(obj: Option<&Bound<'_, PyAny>>) -> bool {
-    obj.is_none_or(|o| o.is_none())
-}
-
-/// A colormap argument that names a built-in preset (`"viridis"`, `"magma"`, …) rather than a
-/// file or map text.
-fn preset_name(obj: Option<&Bound<'_, PyAny>>) -> PyResult<Option<String>> {
-    let Some(s) = obj.and_then(|o| o.cast::<PyString>().ok()) else {
-        return Ok(None);
-    };
-    let s = s.to_string();
-    let known = vorang::mapping::PRESETS.iter().any(|p| p.name == s);
-    Ok((known && !Path::new(&s).exists()).then_some(s))
-}
-
-/// The method string, its last parameter (brightness, or `test`'s opacity) optional in Python:
-/// `"exact linear 0"` renders at `brightness` (the preset's χ_max when the preset maps are in
-/// use, so that opaque parts show its colours; else 1), `"test"` at opacity 0.5.
-fn parse_method(method: &str, brightness: f64) -> PyResult<Method> {
-    let mut words: Vec<String> = method.split_whitespace().map(str::to_string).collect();
-    let Some(name) = words.first() else {
-        return Err(PyValueError::new_err("method: empty method string"));
-    };
-    let name = match name.as_str() {
-        "interpolCoeff" => "interpolateCoeff",
-        "interpolColor" => "interpolateColor",
-        other => other,
-    };
-    if let Some(info) = vorang::render::approx::METHODS
-        .iter()
-        .find(|m| m.name == name)
-    {
-        let params: Vec<&str> = info.usage.split_whitespace().collect();
-        if words.len() == params.len() {
-            words.push(match params.last() {
-                Some(&"opacity") => "0.5".to_string(),
-                _ => format!("{brightness:?}"),
-            });
-        }
-    }
-    let words: Vec<&str> = words.iter().map(String::as_str).collect();
-    Method::parse(&words).map_err(|e| session_err(format!("method: {e}")))
-}
-
-/// A session's error message as the Python exception a user expects: a missing file is an
-/// `OSError`, everything else a `ValueError`.
-fn session_err(message: String) -> PyErr {
-    if message.contains("No such file") || message.contains("no such file") {
-        PyOSError::new_err(message)
-    } else {
-        PyValueError::new_err(message)
-    }
-}
-
-/// `linedraw="on" | "off" | "FIELD {v1 v2 …}"` (commas separate values too, as the thesis
-/// writes them), as the `linedraw` command reads it.
-fn parse_linedraw(text: &str) -> PyResult<LineDraw> {
-    let words: Vec<&str> = text.split_whitespace().collect();
-    match words.as_slice() {
-        ["on"] => Ok(LineDraw::All),
-        ["off"] => Ok(LineDraw::Off),
-        [field, rest @ ..] if !rest.is_empty() => {
-            let field: usize = field.parse().map_err(|_| {
-                PyValueError::new_err(format!(
-                    "linedraw: expected a whole number ≥ 0 for \"field\" but got \"{field}\""
-                ))
-            })?;
-            let values = rest
-                .join(" ")
-                .split(|c: char| c.is_whitespace() || matches!(c, ',' | '{' | '}'))
-                .filter(|v| !v.is_empty())
-                .map(|v| {
-                    vorang::numbers::parse_f64(v).ok_or_else(|| {
-                        PyValueError::new_err(format!(
-                            "linedraw: expected numbers in the value list, found \"{v}\""
-                        ))
-                    })
-                })
-                .collect::<PyResult<Vec<f64>>>()?;
-            Ok(LineDraw::Cells { field, values })
-        }
-        _ => Err(PyValueError::new_err(
-            "wrong # args: should be \"linedraw on|off|field {values}\"",
-        )),
-    }
-}
-
-/// The background argument: "white"/"clear", "none"/"transparent", an (r, g, b) tuple or an
-/// image path.
-fn set_background(session: &mut Session, b: Option<&Bound<'_, PyAny>>) -> PyResult<()> {
-    let Some(b) = b.filter(|b| !b.is_none()) else {
-        return Ok(());
-    };
-    if let Ok(s) = b.cast::<PyString>() {
-        let s = s.to_string();
-        return match s.as_str() {
-            "white" | "clear" => session.set_background(Background::default()),
-            "none" | "transparent" => session.set_background(Background::None),
-            path => session.load_background(Path::new(path)),
-        }
-        .map_err(session_err);
-    }
-    if let Ok(rgb) = b.extract::<Vec3>() {
-        return session
-            .set_background(Background::Color(rgb))
-            .map_err(session_err);
-    }
-    if let Ok(p) = b.extract::<PathBuf>() {
-        return session.load_background(&p).map_err(session_err);
-    }
-    Err(PyValueError::new_err(
-        "background: expected \"white\", \"clear\", \"none\", an (r, g, b) tuple or an image path",
-    ))
-}
-
-type Vec3 = [f64; 3];
-
-/// render(volume, *, size=(512, 512), colormap=None, alphamap=None, method="test 0.5",
-/// persp=None, ortho=None, look_at=None, rotate=(), scale=None, translate=None,
-/// background="white", linedraw="on", lights=())
-///
-/// Renders back to front and returns a float32 array of shape (h, w, 4), first row at the top:
-/// RGB exactly as the PFM output of the equivalent script holds it, plus alpha (the volume's
-/// opacity 1 − T). The volume transforms are applied as the script commands `vol_scale`,
-/// `vol_rotate` (each of `rotate`, in order), `vol_translate` given in that order. `lights` are
-/// `(r, g, b, dx, dy, dz)` tuples, each an `addlight` (they shade `LIT_EMITTER` colormaps; none:
-/// one white light at the camera).
-#[pyfunction]
-#[pyo3(signature = (volume, *, size=(512, 512), colormap=None, alphamap=None, method="exact linear 0", persp=None, ortho=None, look_at=None, rotate=Vec::new(), scale=None, translate=None, background=None, linedraw="off", lights=Vec::new(), view_all=true, zoom=1.0, legend=None, brightness=None, progress=None, backend="cpu"))]
-#[allow(clippy::too_many_arguments)]
-fn render<'py>(
-    py: Python<'py>,
-    volume: &Bound<'py, PyVolume>,
-    size: (usize, usize),
-    colormap: Option<&Bound<'py, PyAny>>,
-    alphamap: Option<&Bound<'py, PyAny>>,
-    method: &str,
-    persp: Option<[f64; 4]>,
-    ortho: Option<[f64; 6]>,
-    look_at: Option<(Vec3, Vec3, Vec3)>,
-    rotate: Vec<[f64; 4]>,
-    scale: Option<Vec3>,
-    translate: Option<Vec3>,
-    background: Option<&Bound<'py, PyAny>>,
-    linedraw: &str,
-    lights: Vec<[f64; 6]>,
-    view_all: bool,
-    zoom: f64,
-    legend: Option<&str>,
-    brightness: Option<f64>,
-    progress: Option<Bound<'py, PyAny>>,
-    backend: &str,
-) -> PyResult<Bound<'py, PyArray3<f32>>> {
-    let vol = Arc::clone(&volume.get().inner);
-    if persp.is_some() && ortho.is_some() {
-        return Err(PyValueError::new_err(
-            "give persp or ortho, not both (one camera)",
-        ));
-    }
-    // The session every front end uses: same setters, same defaults, same checks and messages
-    // as the script commands.
-    let mut session = Session::new();
-    // `backend="gpu"`: the GPU renders (an error naming what is missing, never the CPU instead).
-    session.set_backend(backend).map_err(session_err)?;
-    session.set_volume(Arc::clone(&vol));
-    session
-        .set_image_size(size.0, size.1)
-        .map_err(session_err)?;
-    // No maps (or a preset's name as the colormap): the first picture `vorang info` suggests.
-    let preset = preset_name(colormap)?;
-    let mut default_brightness = brightness.unwrap_or(1.0);
-    let use_preset = preset.is_some() || (is_none(colormap) && is_none(alphamap));
-    if use_preset
-        && let Some((chi, _)) = session
-            .use_preset_maps("render", preset.as_deref().unwrap_or("viridis"))
-            .map_err(session_err)?
-    {
-        default_brightness = brightness.unwrap_or(chi);
-    }
-    session.set_method(parse_method(method, default_brightness)?);
-    if let Some(place) = legend {
-        session.set_legend(Some(vorang::legend::Place::parse(place).ok_or_else(
-            || {
-                PyValueError::new_err(format!(
-                    "legend: expected a position {}, found '{place}'",
-                    vorang::legend::Place::NAMES.join(", ")
-                ))
-            },
-        )?));
-    }
-    if let Some([fovy, aspect, near, far]) = persp {
-        session
-            .set_camera(Camera::Persp {
-                fovy,
-                aspect,
-                near,
-                far,
-            })
-            .map_err(session_err)?;
-    }
-    if let Some([left, right, bottom, top, front, back]) = ortho {
-        session
-            .set_camera(Camera::Ortho {
-                left,
-                right,
-                bottom,
-                top,
-                front,
-                back,
-            })
-            .map_err(session_err)?;
-    }
-    if let Some((eye, reference, up)) = look_at {
-        session.set_look_at(LookAt { eye, reference, up });
-    }
-    let mut ops: Vec<TransformOp> = scale.map(TransformOp::Scale).into_iter().collect();
-    ops.extend(
-        rotate
-            .iter()
-            .map(|&[x, y, z, degrees]| TransformOp::Rotate {
-                axis: [x, y, z],
-                degrees,
-            }),
-    );
-    ops.extend(translate.map(TransformOp::Translate));
-    for op in ops {
-        session.transform(op).map_err(session_err)?;
-    }
-    set_background(&mut session, background)?;
-    session
-        .set_lines(parse_linedraw(linedraw)?)
-        .map_err(session_err)?;
-    for &[r, g, b, dx, dy, dz] in &lights {
-        session
-            .add_light(Light {
-                color: [r, g, b],
-                direction: [dx, dy, dz],
-            })
-            .map_err(session_err)?;
-    }
-    if view_all && persp.is_none() && ortho.is_none() {
-        session.view_all().map_err(session_err)?;
-    }
-    if zoom != 1.0 {
-        session.zoom(zoom).map_err(session_err)?;
-    }
-    let mut notices = Vec::new();
-    let colormap = if preset.is_some() { None } else { colormap };
-    if let Some((map, w)) = load_color(map_arg(colormap, "colormap")?)? {
-        session.set_colormap(map).map_err(session_err)?;
-        notices.extend(w.iter().map(|w| Notice::Warning(w.to_string())));
-    }
-    if let Some((map, w)) = load_alpha(map_arg(alphamap, "alphamap")?)? {
-        session.set_alphamap(map).map_err(session_err)?;
-        notices.extend(w.iter().map(|w| Notice::Warning(w.to_string())));
-    }
-    let mut prepared = session
-        .prepare("render", Order::BackToFront, false)
-        .map_err(session_err)?;
-    notices.extend(prepared.take_notices());
-    let started = std::time::Instant::now();
-    let result = render_interruptible(py, &prepared, progress)?;
-    let seconds = started.elapsed().as_secs_f64();
-    let image = session
-        .finish_image(&mut prepared, result, seconds)
-        .map_err(session_err)?;
-    notices.extend(image.notices);
-    warn_all(py, notices.iter().map(|n| n.text().to_string()))?;
-    let fb = image.framebuffer;
-    let (w, h) = (fb.width, fb.height);
-    let flat: Vec<f32> = fb.pixels.into_iter().flatten().collect();
-    let arr = Array3::from_shape_vec((h, w, 4), flat)
-        .map_err(|e| PyRuntimeError::new_err(e.to_string()))?;
-    Ok(arr.into_pyarray(py))
-}
-
-/// Why a render stopped early (carried by an unwind out of the progress callback).
-struct Stop;
-
-/// Renders on a worker thread while this (the main) thread waits without the GIL, checking
-/// for signals every 20 ms: Ctrl-C (KeyboardInterrupt) or an exception of the progress
-/// callback sets the render's cancel flag (tiles not yet started are skipped) and the
-/// exception is raised here.
-/// `progress` is called as progress(done, total), or, for a tqdm-like object (one with
-/// `update`), as `total` set once and update(n) per finished tile.
-fn render_interruptible(
-    py: Python<'_>,
-    prepared: &Prepared,
-    progress: Option<Bound<'_, PyAny>>,
-) -> PyResult<Result<(Framebuffer, vorang::render::Stats), vorang::Error>> {
-    use std::sync::atomic::{AtomicBool, Ordering};
-    let stop = AtomicBool::new(false);
-    let error: Mutex<Option<PyErr>> = Mutex::new(None);
-    let tqdm = progress
-        .as_ref()
-        .is_some_and(|p| p.hasattr("update").unwrap_or(false));
-    let progress: Option<Py<PyAny>> = progress.map(Bound::unbind);
-    let started_total = AtomicBool::new(false);
-    let callback = |done: usize, total: usize| {
-        if let Some(p) = &progress {
-            Python::attach(|py| {
-                let p = p.bind(py);
-                let r = if tqdm {
-                    let first = !started_total.swap(true, Ordering::Relaxed);
-                    let set = if first {
-                        p.setattr("total", total)
-                            .and_then(|_| p.call_method0("refresh").map(|_| ()))
-                            .or(Ok::<(), PyErr>(()))
-                    } else {
-                        Ok(())
-                    };
-                    set.and_then(|_| p.call_method1("update", (1,)).map(|_| ()))
-                } else {
-                    p.call1((done, total)).map(|_| ())
-                };
-                if let Err(e) = r {
-                    if let Ok(mut slot) = error.lock() {
-                        slot.get_or_insert(e);
-                    }
-                    stop.store(true, Ordering::Relaxed);
-                }
-            });
-        }
-        if stop.load(Ordering::Relaxed) {
-            std::panic::resume_unwind(Box::new(Stop));
-        }
-    };
-    let result = py.detach(|| {
-        std::thread::scope(|scope| {
-            let worker = scope.spawn(|| {
-                std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
-                    prepared.render(&Hooks {
-                        progress: Some(&callback),
-                        tile: None,
-                        cancel: &stop,
-                    })
-                }))
-            });
-            while !worker.is_finished() {
-                std::thread::sleep(std::time::Duration::from_millis(20));
-                let checked = Python::attach(|py| py.check_signals());
-                if let Err(e) = checked {
-                    if let Ok(mut slot) = error.lock() {
-                        slot.get_or_insert(e);
-                    }
-                    stop.store(true, Ordering::Relaxed);
-                }
-            }
-            worker.join()
-        })
-    });
-    if let Some(e) = error.lock().ok().and_then(|mut slot| slot.take()) {
-        return Err(e);
-    }
-    match result {
-        Ok(Ok(r)) => Ok(r),
-        Ok(Err(payload)) | Err(payload) => {
-            if payload.is::<Stop>() {
-                Err(PyRuntimeError::new_err("the render was stopped"))
-            } else {
-                std::panic::resume_unwind(payload)
-            }
-        }
-    }
 }
 
 /// An (h, w, 4) or (h, w, 3) float array as a framebuffer (`transparent`: straight alpha, as
@@ -910,6 +493,9 @@ fn save(
 #[cfg(feature = "script")]
 #[pyfunction]
 fn run_script(py: Python<'_>, path_or_text: &Bound<'_, PyAny>) -> PyResult<()> {
+    use pyo3::exceptions::PyRuntimeError;
+    use pyo3::types::PyString;
+    use std::path::Path;
     let (is_file, text): (bool, String) = if let Ok(s) = path_or_text.cast::<PyString>() {
         let s = s.to_string();
         let one_line = !s.contains('\n');
@@ -962,7 +548,9 @@ fn _encode<'py>(
 #[pymodule]
 fn _vorang(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<PyVolume>()?;
-    m.add_function(wrap_pyfunction!(render, m)?)?;
+    m.add_class::<series::PySeries>()?;
+    m.add_function(wrap_pyfunction!(render::render, m)?)?;
+    m.add_function(wrap_pyfunction!(render::animate, m)?)?;
     m.add_function(wrap_pyfunction!(save, m)?)?;
     m.add_function(wrap_pyfunction!(_encode, m)?)?;
     #[cfg(feature = "script")]

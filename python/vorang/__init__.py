@@ -8,6 +8,12 @@
 
 `render` returns a float32 array of shape (h, w, 4), first row at the top; its RGB values are
 exactly those the PFM output of the equivalent script holds.
+
+A time series (ParaView's .pvd, .series, or a .pvtu / .vtm) is a `Series`; `animate` renders
+every step into a movie with one scene:
+
+    flow = vorang.Series.read("flow.pvd")
+    vorang.animate(flow, "flow.gif", label="t = %.3g s", rotate=[(0, 1, 0, 30)])
 """
 
 from __future__ import annotations
@@ -21,10 +27,12 @@ from typing import Sequence
 
 from . import _vorang
 from ._image import Image
-from ._vorang import Volume, save
+from ._vorang import Series, Volume, save
 
 __all__ = [
     "Volume",
+    "Series",
+    "animate",
     "Image",
     "render",
     "plot",
@@ -56,10 +64,13 @@ def render(
     zoom=1.0,
     legend=None,
     brightness=None,
+    label=None,
+    step=None,
+    time=None,
     progress=None,
     backend="cpu",
 ) -> Image:
-    """Renders `volume` back to front; returns a `vorang.Image`: a float32 numpy array of shape
+    """Renders `volume` (a `Volume`, or a `Series` at `step` or `time`) back to front; returns a `vorang.Image`: a float32 numpy array of shape
     (h, w, 4) that shows itself in notebooks.
 
     The first row is the top of the image. RGB is exactly what the PFM output of the equivalent
@@ -94,6 +105,12 @@ def render(
     in direction (dx, dy, dz), world coordinates); they shade `LIT_EMITTER` colormaps. None
     given: one white light at the camera.
 
+    A `Series`: `step` picks a step by number (negative from the end), `time` the step nearest
+    that time (the earlier on a tie); default step 0. Without maps, the preset spans the field's
+    range over all steps, so that a colour means the same value in every step. label: the
+    step's time printed into the image, a printf format ("t = %.3g s"; %d: the step number;
+    `label` in scripts).
+
     backend: "cpu" (default) or "gpu" (`backend gpu`: the exact method on a Vulkan adapter with
     64-bit floats, in a module built with the `gpu` feature; a ValueError names what is
     missing, the CPU is never used instead).
@@ -108,28 +125,82 @@ def render(
     """
     image = _vorang.render(
         volume,
-        size=tuple(size),
-        colormap=colormap,
-        alphamap=alphamap,
-        method=method,
-        persp=None if persp is None else tuple(persp),
-        ortho=None if ortho is None else tuple(ortho),
-        look_at=None if look_at is None else tuple(tuple(v) for v in look_at),
-        rotate=[tuple(r) for r in rotate],
-        scale=None if scale is None else tuple(scale),
-        translate=None if translate is None else tuple(translate),
-        background=background,
-        linedraw=linedraw,
-        lights=[tuple(l) for l in lights],
-        view_all=bool(view_all),
-        zoom=float(zoom),
-        legend=legend,
-        brightness=None if brightness is None else float(brightness),
+        **_scene(
+            size=size,
+            colormap=colormap,
+            alphamap=alphamap,
+            method=method,
+            persp=persp,
+            ortho=ortho,
+            look_at=look_at,
+            rotate=rotate,
+            scale=scale,
+            translate=translate,
+            background=background,
+            linedraw=linedraw,
+            lights=lights,
+            view_all=view_all,
+            zoom=zoom,
+            legend=legend,
+            brightness=brightness,
+            label=label,
+        ),
+        step=None if step is None else int(step),
+        time=None if time is None else float(time),
         progress=progress,
         backend=backend,
     )
     transparent = isinstance(background, str) and background in ("none", "transparent")
     return Image(image, transparent=transparent)
+
+
+def _scene(**kw):
+    """render's scene keywords in the types the extension takes (tuples, floats)."""
+    tuples = {
+        "size": tuple,
+        "persp": tuple,
+        "ortho": tuple,
+        "scale": tuple,
+        "translate": tuple,
+        "look_at": lambda v: tuple(tuple(x) for x in v),
+        "rotate": lambda v: [tuple(r) for r in v],
+        "lights": lambda v: [tuple(l) for l in v],
+        "view_all": bool,
+        "zoom": float,
+        "brightness": float,
+    }
+    return {k: (v if v is None or k not in tuples else tuples[k](v)) for k, v in kw.items()}
+
+
+def animate(series, path, *, fps=10, label=None, progress=None, **render_kwargs) -> str:
+    """Renders every step of a `Series` into the movie `path` and returns its path.
+
+    The format follows the extension: .gif (256 colours a frame), .apng or .png (animated PNG),
+    and .mp4, .webm, .mkv, .mov through the ffmpeg program (on the PATH). fps: frames per
+    second. label: each step's time printed into its frame, a printf format ("t = %.3g s";
+    %d: the step number). progress: called as progress(done, total) after each frame, or a
+    tqdm-like object (update(1) per frame).
+
+    Every other keyword is `render`'s (size, colormap, alphamap, method, camera, rotate, …):
+    one scene for all frames, as a script's loop over `timestep` keeps it — the camera frames
+    step 0, and without maps the preset spans each field's range over all steps, so that
+    colours mean the same value in every frame. A step with the same points and cells as the
+    one before shares its mesh (only its fields are loaded).
+
+        flow = vorang.Series.read("flow.pvd")
+        vorang.animate(flow, "flow.gif", label="t = %.3g s", size=(400, 300))
+    """
+    for key in ("step", "time"):
+        if key in render_kwargs:
+            raise TypeError(f"animate renders every step; {key}= is render's keyword")
+    return _vorang.animate(
+        series,
+        os.fspath(path),
+        fps=float(fps),
+        label=label,
+        progress=progress,
+        **_scene(**render_kwargs),
+    )
 
 
 # meshio cell type names → VTK cell types (the readers' numbering).

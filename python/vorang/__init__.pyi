@@ -37,6 +37,20 @@ class Volume:
     def tets(self) -> npt.NDArray[np.int64]: ...
     def field_range(self, field: Union[int, str]) -> Tuple[float, float]: ...
 
+class Series:
+    """A collection or time series (.pvd, .series, .pvtu, .vtm): its steps as Volumes."""
+
+    @staticmethod
+    def read(path: _Path) -> "Series": ...
+    @property
+    def times(self) -> list[float]: ...
+    @property
+    def source(self) -> str: ...
+    def __len__(self) -> int: ...
+    def __getitem__(self, step: int) -> Volume: ...
+    def nearest(self, time: float) -> int: ...
+    def range(self, field: Union[int, str]) -> Tuple[float, float]: ...
+
 class Image(np.ndarray):
     """A rendered image: float32 (h, w, 4), shown inline in notebooks."""
 
@@ -81,7 +95,7 @@ class Alphamap:
     def constant(cls, chi: float) -> "Alphamap": ...
 
 def render(
-    volume: Volume,
+    volume: Union[Volume, Series],
     *,
     size: Tuple[int, int] = (512, 512),
     colormap: Union[None, str, _Path, Colormap] = None,
@@ -100,9 +114,21 @@ def render(
     zoom: float = 1.0,
     legend: Optional[str] = None,
     brightness: Optional[float] = None,
+    label: Optional[str] = None,
+    step: Optional[int] = None,
+    time: Optional[float] = None,
     progress: Optional[object] = None,
     backend: str = "cpu",
 ) -> Image: ...
+def animate(
+    series: Series,
+    path: _Path,
+    *,
+    fps: float = 10,
+    label: Optional[str] = None,
+    progress: Optional[object] = None,
+    **render_kwargs: object,
+) -> str: ...
 def plot(
     data: object,
     *,

@@ -406,7 +406,8 @@ impl Session {
 
     /// The first picture `vorang info` suggests, for front ends that render without maps
     /// (`vorang view FILE`, Python): a colour preset (`viridis`) and an absorption ramp over the first
-    /// scalar field's range, χ rising to 4 / the bounding box's diagonal (the densest part then
+    /// scalar field's range (over all steps of a time series where [`Session::set_series_ranges`]
+    /// gave them), χ rising to 4 / the bounding box's diagonal (the densest part then
     /// lets about e⁻⁴ of the light through across the volume). Returns that χ_max — the
     /// brightness at which opaque parts show the preset's colours — and a note saying what was
     /// chosen; `None` (and no change) when no field varies.
@@ -422,10 +423,11 @@ impl Session {
             return Ok(None);
         }
         let chi = 4.0 / diagonal;
-        let found = (0..vol.data.fields.len()).find_map(|i| match vol.field_range(i)?.as_slice() {
-            [(lo, hi)] if lo < hi && lo.is_finite() && hi.is_finite() => Some((i, *lo, *hi)),
-            _ => None,
-        });
+        let found =
+            (0..vol.data.fields.len()).find_map(|i| match self.range_of(&vol, i)?.as_slice() {
+                [(lo, hi)] if lo < hi && lo.is_finite() && hi.is_finite() => Some((i, *lo, *hi)),
+                _ => None,
+            });
         let Some((i, lo, hi)) = found else {
             return Ok(None);
         };
@@ -668,6 +670,14 @@ impl Session {
         );
         self.written.push(path.clone());
         Ok(Some((path, Notice::Note(msg))))
+    }
+
+    /// Drops the open movie without writing it (a front end's animation that failed half-way);
+    /// its frames are removed.
+    pub fn discard_movie(&mut self) {
+        if let Some(movie) = self.movie.take() {
+            movie.discard();
+        }
     }
 
     /// Writes `fb` as the next numbered image, as a frame would (the viewer's `s`).

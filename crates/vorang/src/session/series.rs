@@ -15,7 +15,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use super::{Notice, Session, fields, warnings};
-use crate::formats::collection::{self, Series, StepVolume};
+use crate::formats::collection::{self, FieldRanges, Series, StepVolume};
 use crate::info::num;
 use crate::legend::label;
 
@@ -23,6 +23,9 @@ use crate::legend::label;
 pub(super) struct Shown {
     pub(super) series: Arc<Series>,
     pub(super) step: StepVolume,
+    /// Each field's range over all steps, where a front end has them (Python's `Series`): the
+    /// preset maps then span them, so that a colour means the same value in every frame.
+    pub(super) ranges: Option<Arc<FieldRanges>>,
 }
 
 impl Session {
@@ -56,8 +59,33 @@ impl Session {
     /// `render(series, step=…)`).
     pub fn set_step(&mut self, series: Arc<Series>, step: StepVolume) -> Option<Notice> {
         let notice = self.set_volume(Arc::clone(&step.volume));
-        self.series = Some(Shown { series, step });
+        self.series = Some(Shown {
+            series,
+            step,
+            ranges: None,
+        });
         notice
+    }
+
+    /// The fields' ranges over all steps of the shown collection ([`Series::ranges`]): the
+    /// preset maps ([`Session::use_preset_maps`]) span them instead of the shown step's.
+    pub fn set_series_ranges(&mut self, ranges: Arc<FieldRanges>) {
+        if let Some(shown) = &mut self.series {
+            shown.ranges = Some(ranges);
+        }
+    }
+
+    /// The range of field `i` per component: over all steps where the session has them,
+    /// else the shown volume's.
+    pub(super) fn range_of(
+        &self,
+        vol: &crate::volume::Volume,
+        i: usize,
+    ) -> Option<Vec<(f64, f64)>> {
+        match self.series.as_ref().and_then(|s| s.ranges.as_ref()) {
+            Some(ranges) => ranges.get(i).cloned().flatten(),
+            None => vol.field_range(i),
+        }
     }
 
     /// The collection the shown volume belongs to, if any.
@@ -124,15 +152,37 @@ impl Session {
             .series
             .load_step(index, Some(&shown.step))
             .map_err(|e| format!("timestep: {e}"))?;
+        let mut notices = warnings(w);
+        notices.extend(self.show_step(step)?);
+        Ok(notices)
+    }
+
+    /// Shows a step of the shown collection loaded elsewhere (Python's `Series` loads its
+    /// steps itself), as `timestep` would: the scene stays; the maps and grid lines are checked
+    /// against the step's fields, and on an error the shown step stays.
+    pub fn show_step(&mut self, step: StepVolume) -> Result<Vec<Notice>, String> {
+        let index = step.index;
+        let Some(shown) = &self.series else {
+            return Err(format!(
+                "timestep {index}: the volume is no collection's step"
+            ));
+        };
+        if index >= shown.series.len() {
+            return Err(format!(
+                "timestep: step {index} is out of range: {} has {}",
+                super::display_path(Path::new(&shown.series.source)),
+                shown.series.range_text()
+            ));
+        }
         crate::mapping::Mapping::new(&self.colormap, &self.alphamap, &step.volume)
             .map_err(|e| e.to_string())
             .and_then(|_| self.check_lines(&step))
             .map_err(|e| format!("timestep {index}: {e}"))?;
+        self.volume = Some(Arc::clone(&step.volume));
         if let Some(shown) = &mut self.series {
-            self.volume = Some(Arc::clone(&step.volume));
             shown.step = step;
         }
-        Ok(warnings(w))
+        Ok(Vec::new())
     }
 
     /// `label FORMAT` (`Some`) or `label off` (`None`): the shown step's time in every image.
