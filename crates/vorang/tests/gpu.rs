@@ -347,3 +347,37 @@ fn mirrored_and_axis_aligned_views_match_the_cpu() {
         }
     }
 }
+
+/// The steps of a time series on the GPU: steps with the same points and cells share the mesh,
+/// and with it the cells uploaded to the device; every step is the CPU's image.
+#[test]
+fn time_steps_sharing_a_mesh_match_the_cpu() {
+    let Some(g) = gpu() else { return };
+    let flow =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data/series/flow.pvd");
+    let series = vorang::formats::collection::Series::read(&flow).unwrap();
+    let (mut step, _) = series.load_step(0, None).unwrap();
+    let view = View {
+        transforms: vec![TransformOp::Rotate {
+            axis: [1.0, 1.0, 0.0],
+            degrees: 30.0,
+        }],
+        ..View::default()
+    };
+    for k in [0, 1, 2, 0] {
+        let (next, _) = series.load_step(k, Some(&step)).unwrap();
+        assert!(next.shares_mesh(&step));
+        step = next;
+        let mapping = accuracy::scalar_maps(&step.volume);
+        let s = settings(48, Order::BackToFront, 1.0);
+        let d = compare(
+            g,
+            &step.volume,
+            &mapping,
+            &view,
+            &s,
+            &format!("flow step {k}"),
+        );
+        eprintln!("flow step {k}: largest difference {d:e}");
+    }
+}

@@ -15,7 +15,8 @@
 //! ([`twin`]); the GPU tests hold them bit-identical on lavapipe, and hold the images to the
 //! CPU renderer's within 1e-12.
 //!
-//! Memory: per cell its four nodes and four neighbours (32 bytes, uploaded once per volume),
+//! Memory: per cell its four nodes and four neighbours (32 bytes, uploaded once per mesh: the
+//! time steps of a series that share a mesh share the upload),
 //! per node four f64 per frame (screen position, depth, field value), per pixel its entries.
 
 pub mod frame;
@@ -29,6 +30,7 @@ use wgpu::util::DeviceExt;
 use crate::error::Error;
 use crate::framebuffer::Framebuffer;
 use crate::mapping::Mapping;
+use crate::mesh::TetMesh;
 use crate::render::{Settings, Stats};
 use crate::scene::View;
 use crate::volume::Volume;
@@ -49,9 +51,10 @@ pub fn source() -> String {
     WGSL.iter().map(|(_, s)| *s).collect::<Vec<_>>().join("\n")
 }
 
-/// A volume's cells on the device: per cell its nodes, then its neighbours.
+/// A mesh's cells on the device: per cell its nodes, then its neighbours.
 struct Uploaded {
-    volume: Weak<Volume>,
+    /// The mesh uploaded (a time step with the same points and cells shares it).
+    cells_of: Weak<TetMesh>,
     mesh: wgpu::Buffer,
 }
 
@@ -67,6 +70,9 @@ pub struct Gpu {
     /// The device's `fma` on f64 rounds once (lavapipe's does not: it multiplies and adds).
     exact_fma: bool,
     uploaded: Mutex<Option<Uploaded>>,
+    /// Held from an error scope's push to its pop: the device's scopes must be popped in the
+    /// reverse order of their pushes, which threads sharing the device would interleave.
+    scopes: Mutex<()>,
 }
 
 impl std::fmt::Debug for Gpu {
@@ -137,6 +143,7 @@ impl Gpu {
             ),
             exact_fma: false,
             uploaded: Mutex::new(None),
+            scopes: Mutex::new(()),
         };
         gpu.exact_fma = gpu.probe_fma()?;
         Ok(gpu)
@@ -170,6 +177,7 @@ impl Gpu {
         outputs: usize,
     ) -> Result<Vec<f64>, String> {
         let d = &self.device;
+        let _scopes = self.scopes.lock().unwrap_or_else(|e| e.into_inner());
         let src = format!(
             "{}\n{}\n{}\n{}",
             WGSL[0].1, WGSL[1].1, WGSL[2].1, PROBE_WGSL
@@ -261,11 +269,13 @@ impl Gpu {
         Ok(out)
     }
 
-    /// The volume's cells on the device, uploaded once per volume.
+    /// The volume's cells on the device, uploaded once per mesh.
     fn mesh_of(&self, vol: &Arc<Volume>) -> wgpu::Buffer {
         let mut uploaded = self.uploaded.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(u) = uploaded.as_ref()
-            && u.volume.upgrade().is_some_and(|v| Arc::ptr_eq(&v, vol))
+            && u.cells_of
+                .upgrade()
+                .is_some_and(|m| Arc::ptr_eq(&m, &vol.mesh))
         {
             return u.mesh.clone();
         }
@@ -277,7 +287,7 @@ impl Gpu {
         }
         let buffer = self.storage(bytemuck::cast_slice(&cells));
         *uploaded = Some(Uploaded {
-            volume: Arc::downgrade(vol),
+            cells_of: Arc::downgrade(&vol.mesh),
             mesh: buffer.clone(),
         });
         buffer
@@ -332,6 +342,7 @@ impl Gpu {
     pub fn march(&self, vol: &Arc<Volume>, data: &frame::FrameData) -> Result<Vec<f64>, String> {
         let mesh = self.mesh_of(vol);
         let d = &self.device;
+        let scopes = self.scopes.lock().unwrap_or_else(|e| e.into_inner());
         let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
         let nodes = self.storage(bytemuck::cast_slice(&data.nodes));
         let lists = self.storage(bytemuck::cast_slice(&data.lists));
@@ -359,6 +370,7 @@ impl Gpu {
         if let Some(e) = block(scope.pop()) {
             return Err(format!("the GPU refused the frame's buffers: {e:?}"));
         }
+        drop(scopes);
         let groups = [
             data.width.div_ceil(8) as u32,
             data.height.div_ceil(8) as u32,
