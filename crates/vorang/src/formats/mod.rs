@@ -9,8 +9,10 @@
 //! analytic fields, denominators), and its behaviour and messages are fixed by the thesis (appendix B) and docs/formats.md. The
 //! registry lists it so that detection and "expected one of" messages cover every format.
 //!
-//! Format detection looks at the content first (`<VTKFile` for VTK XML, `# vtk DataFile` for
-//! legacy VTK, `$MeshFormat` for Gmsh, `# HyperMesh` for HyperMesh); the extension only decides
+//! Format detection looks at the content first (`<VTKFile` for VTK XML — its `type` tells a
+//! collection (`Collection`, `PUnstructuredGrid`, `vtkMultiBlockDataSet`) from a `.vtu` —,
+//! `"file-series-version"` for ParaView's `.series`, `# vtk DataFile` for legacy VTK,
+//! `$MeshFormat` for Gmsh, `# HyperMesh` for HyperMesh); the extension only decides
 //! when the content is not recognised, so a mis-named file still loads and a file whose
 //! content no reader recognises gets a clear error naming the formats tried.
 
@@ -417,8 +419,9 @@ pub fn format_of_file(path: &Path) -> Result<&'static Format, Error> {
 }
 
 impl Volume {
-    /// Reads a mesh file of any supported format (HyperMesh, `.vtu`, `.vtk`, `.msh`; see
-    /// [`crate::formats`]). Warnings (e.g. re-oriented cells) are returned, not printed.
+    /// Reads a mesh file of any supported format (HyperMesh, `.vtu`, `.vtk`, `.msh`, and of a
+    /// collection — `.pvd`, `.pvtu`, `.vtm`, `.series` — its step 0; see [`crate::formats`]).
+    /// Warnings (e.g. re-oriented cells) are returned, not printed.
     pub fn load(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
         load_volume(path)
     }
