@@ -156,3 +156,16 @@ def test_show_without_ipywidgets_is_the_static_image(monkeypatch):
         img = vorang.show(str(VTU), size=(30, 20))
     assert isinstance(img, vorang.Image)
     assert any("ipywidgets" in str(w.message) for w in caught)
+
+
+def test_plot_of_a_real_pyvista_grid_is_the_files_image():
+    pv = pytest.importorskip("pyvista")
+    grid = pv.read(str(VTU))
+    kw = dict(size=(48, 32), scalars="temperature")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        assert np.array_equal(vorang.plot(grid, **kw), vorang.plot(str(VTU), **kw))
+        image = pv.ImageData(dimensions=(5, 4, 3), spacing=(0.5, 0.5, 0.5))
+        image.point_data["x"] = np.asarray(image.points)[:, 0]
+        vol = vorang.Volume.from_pyvista(image)
+    assert vol.n_tets == 4 * 3 * 2 * 6
