@@ -9,17 +9,21 @@
 //! that do not contain `v` — a triangle gives one tetrahedron, a quadrilateral a pyramid that is
 //! cut along the face's own smallest-node diagonal into two. The faces that contain `v` are
 //! cut through `v`, which is their smallest node too. A hexahedron gives 6 tetrahedra, a wedge
-//! 3, a pyramid 2. Quadratic tetrahedra (VTK 24, Gmsh 11) become their corner tetrahedron, and
-//! every point array then becomes a `HigherOrder` (P2) field from the corner values and the
-//! mid-edge values (edges without a mid-edge node, e.g. of linear cells in the same file, get
-//! the mean of their ends, which keeps the field linear along them). Other cells (points, lines,
-//! faces, polyhedra, other higher-order cells) are skipped with one warning that counts them by
-//! type; a file without volume cells is an error.
+//! 3, a pyramid 2; a voxel is a hexahedron with its nodes in another order. Quadratic
+//! tetrahedra (VTK 24, Gmsh 11) become their corner tetrahedron, and every point array then
+//! becomes a `HigherOrder` (P2) field from the corner values and the mid-edge values (edges
+//! without a mid-edge node, e.g. of linear cells in the same file, get the mean of their ends,
+//! which keeps the field linear along them); an array whose mid-edge values all lie exactly
+//! halfway is linear and stays a `Linear` field. Lagrange cells (VTK 71–74) are split by
+//! their degree (`higher`), polyhedra around added centre points (`polyhedra`), which join the
+//! file's points. Other cells (points, lines, faces, other higher-order cells) are skipped with
+//! one warning that counts them by type; a file without volume cells is an error.
 //!
 //! **Fields** (docs/formats.md, "Fields (VTK and Gmsh)"): field number = position in the file, point arrays
 //! first, then cell arrays. Point arrays become `Linear` fields (`HigherOrder` with quadratic
 //! cells), cell arrays `Constant` fields; a cell's value is carried by every tetrahedron cut
-//! from it.
+//! from it, and a point array's value at an added point is the mean of the points it stands
+//! for.
 //! Integer arrays become `int` data, except scalar integer *cell* arrays whose values all lie
 //! in 0…255: those are `byte`, so that `CONST_CELL`, `CategoryField` and `linedraw` take them
 //! (material ids, Gmsh physical groups). Float32 data stay `float`, everything else `double`;
@@ -32,7 +36,10 @@
 //! conforming split; the array-to-field-type table) with its own tests.
 
 mod cells;
+mod cut;
 mod fields;
+mod higher;
+mod polyhedra;
 
 use std::collections::HashMap;
 
@@ -41,9 +48,9 @@ use crate::data::ScalarType;
 use crate::error::{ParseError, Warning};
 use crate::mesh::{EDGE_NODES, TetMesh};
 use crate::volume::{Geometry, Volume};
-use cells::Tetrahedra;
+use cut::Tetrahedra;
 
-pub use cells::split_cell;
+pub use cut::split_cell;
 
 /// The smallest non-zero coordinate magnitude accepted (see [`volume`]).
 pub const MIN_MAGNITUDE: f64 = 1e-50;
@@ -73,10 +80,10 @@ pub fn volume_with_shape(
     }
     let MeshDescription {
         source,
-        nodes,
+        mut nodes,
         float_coordinates,
         cells,
-        point_arrays,
+        mut point_arrays,
         cell_arrays,
         points_line,
         cells_line,
@@ -92,26 +99,33 @@ pub fn volume_with_shape(
         fields::check_array(&source, a, cells.len(), "cells")?;
     }
 
-    let Tetrahedra {
-        tets,
-        parent,
-        skipped,
-        midpoints,
-        quadratic,
-    } = cells::tetrahedra(&source, &cells, nodes.len(), cells_line)?;
+    let mut cut = cells::tetrahedra(&source, &cells, &nodes, cells_line)?;
     // The cell list is no longer needed (only the types, for messages): free it before the
     // mesh builds its adjacency, which keeps the peak memory of a load low.
     let cell_types = cells.types;
-    drop((cells.offsets, cells.connectivity));
-    if let Some(w) = cells::skipped_warning(&source, cells_line, skipped) {
-        warnings.push(w);
-    }
+    drop((cells.offsets, cells.connectivity, cells.faces));
+    warnings.extend(cells::warnings(&source, cells_line, &mut cut));
+    let Tetrahedra {
+        tets,
+        parent,
+        midpoints,
+        quadratic,
+        added,
+        ..
+    } = cut;
+    added.extend(&mut nodes, &mut point_arrays);
     if tets.is_empty() {
         return Err(err(
             cells_line,
-            "no volume cells (tetrahedra, hexahedra, wedges, pyramids or quadratic tetrahedra): nothing to render".into(),
+            "no volume cells (tetrahedra, hexahedra, voxels, wedges, pyramids, quadratic tetrahedra, Lagrange cells or polyhedra): nothing to render".into(),
         ));
     }
+    // A point array whose mid-edge values all lie exactly halfway is linear on every cell: it
+    // stays a Linear field, and the edges are needed only for the others.
+    let quadratic = quadratic
+        && point_arrays
+            .iter()
+            .any(|a| !fields::linear_on_edges(a, &midpoints));
     let mesh = tet_mesh(
         &source,
         nodes,
