@@ -540,3 +540,41 @@ fn truncated_new_cell_files_fail_cleanly() {
         }
     }
 }
+
+#[test]
+fn every_number_of_the_cell_arrays_changed_fails_cleanly_or_loads() {
+    // Each number of the <Cells> section (connectivity, offsets, types, both face layouts)
+    // replaced by values a damaged or hostile file might hold: a volume or a located error,
+    // never a panic.
+    for name in ["polyhedra_ascii.vtu", "polyhedra_old.vtu", "polyhedra.vtk"] {
+        let bytes = std::fs::read(data(name)).unwrap();
+        let text = String::from_utf8(bytes.clone()).unwrap();
+        let start = text.find("<Cells>").or_else(|| text.find("CELLS")).unwrap();
+        let end = text.find("</Cells>").unwrap_or(text.len());
+        let mut at = start;
+        let mut tried = 0;
+        while at < end {
+            let rest = &text[at..end];
+            let Some(k) = rest.find(|c: char| c.is_ascii_digit()) else {
+                break;
+            };
+            let begin = at + k;
+            let len = text[begin..]
+                .find(|c: char| !c.is_ascii_digit())
+                .unwrap_or(0);
+            let inside_tag = text[..begin].rfind('<') > text[..begin].rfind('>');
+            if !inside_tag {
+                for v in ["-1", "0", "1", "7", "99", "4294967296"] {
+                    let changed = [&text[..begin], v, &text[begin + len..]].concat();
+                    match formats::volume_from_bytes(changed.as_bytes(), name) {
+                        Ok(_) => {}
+                        Err(e) => assert!(e.line >= 1 && e.file == name, "{e}"),
+                    }
+                    tried += 1;
+                }
+            }
+            at = begin + len.max(1);
+        }
+        assert!(tried > 100, "{name}: {tried}");
+    }
+}
