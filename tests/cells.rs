@@ -578,3 +578,29 @@ fn every_number_of_the_cell_arrays_changed_fails_cleanly_or_loads() {
         assert!(tried > 100, "{name}: {tried}");
     }
 }
+
+#[test]
+fn added_points_of_a_float_file_are_floats_and_round_trip() {
+    // Found by fuzzing: a polyhedron's centre, the mean of `float` coordinates, is rounded to
+    // a `float` too, so that the volume stays a `float` one and reads back from its `.vtu`.
+    let bytes = std::fs::read(data("polyhedra_prisms.vtu")).unwrap();
+    let mut desc = formats::read_description(&bytes, "prisms.vtu").unwrap();
+    for p in desc.nodes.iter_mut() {
+        *p = p.map(|c| f64::from(c as f32));
+    }
+    desc.float_coordinates = true;
+    let (vol, _) = build::volume(desc).unwrap();
+    assert!(
+        vol.mesh
+            .nodes()
+            .iter()
+            .flatten()
+            .all(|&c| f64::from(c as f32) == c)
+    );
+    let mut out = Vec::new();
+    formats::vtu::write(&vol, &mut out).unwrap();
+    let again = formats::vtu::read(&out, "again.vtu").unwrap();
+    let (again, _) = build::volume(again).unwrap();
+    assert_eq!(again.mesh.nodes(), vol.mesh.nodes());
+    assert_eq!(again.mesh.tets(), vol.mesh.tets());
+}

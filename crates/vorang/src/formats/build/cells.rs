@@ -3,9 +3,10 @@
 //! mid-edge nodes are remembered for the `HigherOrder` fields), hexahedra, voxels, wedges and
 //! pyramids are split conformingly ([`super::split_cell`]), Lagrange cells by their degree
 //! (`higher`), polyhedra around added centre points (`polyhedra`); everything else is counted
-//! and skipped. A rule of its own, with its own tests, hence its own module: every tetrahedron
-//! remembers the cell it was cut from, which is all the field step needs to know about the
-//! split.
+//! and skipped. Apart from the fields because every tetrahedron remembers the cell it was cut
+//! from, which is all the field step needs to know about the split; apart from the rules of
+//! each kind of cell so that this dispatch (the checks every cell passes first: a volume type,
+//! a node count its type allows, points that exist) reads in one place.
 
 use std::collections::HashMap;
 
@@ -16,11 +17,12 @@ use crate::formats::lagrange::Shape;
 use crate::formats::{Cells, cell_type};
 
 /// Cells → tetrahedra, each remembering the cell it came from. A volume cell needs its number
-/// of nodes, each one of the `nodes` (their positions place the polyhedra's added points).
+/// of nodes, each one of the `nodes` (their positions place the polyhedra's added points,
+/// rounded to `float` when every coordinate is one: `float32`).
 pub(super) fn tetrahedra(
     source: &str,
     cells: &Cells,
-    nodes: &[[f64; 3]],
+    (nodes, float32): (&[[f64; 3]], bool),
     cells_line: usize,
 ) -> Result<Tetrahedra, ParseError> {
     let err = |line: usize, msg: String| ParseError::new(source, line.max(1), msg);
@@ -33,7 +35,7 @@ pub(super) fn tetrahedra(
         quadratic: false,
         subdivided: 0,
         unordered: 0,
-        added: Added::new(n_nodes),
+        added: Added::new(n_nodes, float32),
     };
     for i in 0..cells.len() {
         let ty = cells.types[i];

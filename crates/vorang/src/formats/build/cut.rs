@@ -116,6 +116,8 @@ impl Tetrahedra {
 pub(super) struct Added {
     /// The number of the file's points (added point `k` is point `base + k`).
     pub(super) base: usize,
+    /// Whether every coordinate of the file is a `float`: the added points are rounded to one.
+    float32: bool,
     /// Added point `k` is the mean of `members[offsets[k]..offsets[k + 1]]` (sorted).
     offsets: Vec<usize>,
     members: Vec<u32>,
@@ -125,9 +127,10 @@ pub(super) struct Added {
 }
 
 impl Added {
-    pub(super) fn new(base: usize) -> Added {
+    pub(super) fn new(base: usize, float32: bool) -> Added {
         Added {
             base,
+            float32,
             offsets: vec![0],
             members: Vec::new(),
             positions: Vec::new(),
@@ -149,7 +152,9 @@ impl Added {
             }
         }
         let n = members.len() as f64;
-        self.positions.push(sum.map(|s| s / n));
+        // A volume whose coordinates are all `float` keeps them so (and is written so).
+        let round = |x: f64| if self.float32 { f64::from(x as f32) } else { x };
+        self.positions.push(sum.map(|s| round(s / n)));
         self.members.extend_from_slice(members);
         self.offsets.push(self.members.len());
         (self.base + self.positions.len() - 1) as u32

@@ -99,7 +99,7 @@ pub fn volume_with_shape(
         fields::check_array(&source, a, cells.len(), "cells")?;
     }
 
-    let mut cut = cells::tetrahedra(&source, &cells, &nodes, cells_line)?;
+    let mut cut = cells::tetrahedra(&source, &cells, (&nodes, float_coordinates), cells_line)?;
     // The cell list is no longer needed (only the types, for messages): free it before the
     // mesh builds its adjacency, which keeps the peak memory of a load low.
     let cell_types = cells.types;
