@@ -604,3 +604,46 @@ fn added_points_of_a_float_file_are_floats_and_round_trip() {
     assert_eq!(again.mesh.nodes(), vol.mesh.nodes());
     assert_eq!(again.mesh.tets(), vol.mesh.tets());
 }
+
+#[test]
+fn pieces_and_time_steps_of_polyhedra_and_lagrange_cells() {
+    use vorang::formats::collection::Series;
+    // Two parts of two polyhedral cubes each, merged: the shared quadrilaterals are one face
+    // (the parts' points merged by coordinates, the faces mapped), so the split is conforming
+    // across the parts; the second time step shares the first's mesh.
+    let series = Series::read(&data("polyhedra_parts.pvd")).unwrap();
+    let (first, warnings) = series.load_step(0, None).unwrap();
+    assert!(warnings.is_empty(), "{warnings:?}");
+    let (single, _) = load("polyhedra.vtu");
+    let vol = &first.volume;
+    assert_eq!(vol.mesh.node_count(), single.mesh.node_count());
+    assert_eq!(vol.mesh.tet_count(), single.mesh.tet_count());
+    assert!(vol.mesh.is_convex(), "no inner boundary between the parts");
+    assert!((volume_of(vol) - 4.0).abs() < 1e-12);
+    let (second, _) = series.load_step(1, Some(&first)).unwrap();
+    assert!(first.shares_mesh(&second));
+    assert_eq!(second.volume.data.raw, first.volume.data.raw);
+    // A P2 file twice: the second step shares the mesh and still has its P2 field.
+    let tmp = tempfile::tempdir().unwrap();
+    let pvd = tmp.path().join("p2.pvd");
+    let file = data("lagrange_p2.vtu");
+    std::fs::write(
+        &pvd,
+        format!(
+            "<VTKFile type=\"Collection\" version=\"0.1\"><Collection>\n<DataSet timestep=\"0\" file=\"{0}\"/>\n<DataSet timestep=\"1\" file=\"{0}\"/>\n</Collection></VTKFile>\n",
+            file.display()
+        ),
+    )
+    .unwrap();
+    let series = Series::read(&pvd).unwrap();
+    let (a, _) = series.load_step(0, None).unwrap();
+    let (b, _) = series.load_step(1, Some(&a)).unwrap();
+    assert!(a.shares_mesh(&b));
+    let (p2, _) = load("lagrange_p2.vtu");
+    assert_eq!(b.volume.data.raw, p2.data.raw);
+    let kinds = |v: &Volume| -> Vec<Interpolator> {
+        v.data.fields.iter().map(|f| f.interpolator).collect()
+    };
+    assert_eq!(kinds(&b.volume), kinds(&p2));
+    assert_eq!(kinds(&p2)[1], Interpolator::HigherOrder);
+}

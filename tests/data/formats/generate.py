@@ -695,6 +695,31 @@ def write_polyhedra():
 """
     with open(out("polyhedra_old.vtu"), "w") as fh:
         fh.write(body)
+    # Two parts of two cubes each, each with only its own points (numbered anew), and a
+    # ParaView collection of two time steps, each the two parts (merged when read).
+    for k, part_cells in enumerate([[0, 1], [2, 3]]):
+        used = sorted({n for c in part_cells for fc in polys[c] for n in fc})
+        local = {g: i for i, g in enumerate(used)}
+        part_streams = []
+        for c in part_cells:
+            stream = [len(polys[c])]
+            for fc in polys[c]:
+                stream += [len(fc)] + [local[n] for n in fc]
+            part_streams.append(stream)
+        vtk_write(f"polyhedra_part_{k}.vtu",
+                  vtk_grid([pts[g] for g in used], [(42, s_) for s_ in part_streams],
+                           {"f": f[used]}, {"part": part["part"][part_cells]}))
+    datasets = "\n".join(
+        f'    <DataSet timestep="{t}" group="" part="{k}" file="polyhedra_part_{k}.vtu"/>'
+        for t in (0, 1) for k in (0, 1))
+    with open(out("polyhedra_parts.pvd"), "w") as fh:
+        fh.write(f"""<?xml version="1.0"?>
+<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">
+  <Collection>
+{datasets}
+  </Collection>
+</VTKFile>
+""")
     mesh = meshio.Mesh(np.array(pts), [("polyhedron8", [[np.array(fc) for fc in faces] for faces in polys])],
                        point_data={"f": f}, cell_data={"part": [part["part"]]})
     meshio.vtu.write(out("polyhedra_meshio.vtu"), mesh, binary=False)

@@ -113,6 +113,7 @@ impl Tetrahedra {
 }
 
 /// The points the polyhedra add, each the mean of some of the file's points.
+#[derive(Debug, Clone)]
 pub(super) struct Added {
     /// The number of the file's points (added point `k` is point `base + k`).
     pub(super) base: usize,
@@ -136,11 +137,6 @@ impl Added {
             positions: Vec::new(),
             face_centres: HashMap::new(),
         }
-    }
-
-    /// Whether no point was added.
-    pub(super) fn is_empty(&self) -> bool {
-        self.positions.is_empty()
     }
 
     /// A new point at the mean of `members` (sorted, distinct).
@@ -168,17 +164,34 @@ impl Added {
         }
     }
 
-    /// Appends the added points to the file's points, and to every point array the mean of
-    /// its values at the points each stands for (integer arrays become Float64: a mean is
-    /// seldom whole).
-    pub(super) fn extend(self, nodes: &mut Vec<[f64; 3]>, point_arrays: &mut [Array]) {
-        if self.is_empty() {
+    /// How many points were added.
+    pub(super) fn len(&self) -> usize {
+        self.offsets.len() - 1
+    }
+
+    /// Appends the added points to the file's points.
+    pub(super) fn extend_points(&self, nodes: &mut Vec<[f64; 3]>) {
+        nodes.extend_from_slice(&self.positions);
+    }
+
+    /// What a later time step with the same points and cells needs: the means, not the
+    /// positions nor the faces' index.
+    pub(super) fn means_only(mut self) -> Added {
+        self.positions = Vec::new();
+        self.face_centres = HashMap::new();
+        self
+    }
+
+    /// Appends to every point array the mean of its values at the points each added point
+    /// stands for (integer arrays become Float64: a mean is seldom whole).
+    pub(super) fn extend_arrays(&self, point_arrays: &mut [Array]) {
+        let added = self.len();
+        if added == 0 {
             return;
         }
-        nodes.extend_from_slice(&self.positions);
         for a in point_arrays {
             let n = a.components;
-            let mut means = Vec::with_capacity((self.offsets.len() - 1) * n);
+            let mut means = Vec::with_capacity(added * n);
             for w in self.offsets.windows(2) {
                 let members = &self.members[w[0]..w[1]];
                 for c in 0..n {

@@ -61,12 +61,21 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
 }
 
 /// What a volume's fields are built on besides its mesh: the file's cell each tetrahedron was
-/// cut from, and the mid-edge nodes of quadratic cells. A time series keeps it with a step so
-/// that the next step with the same points and cells builds only its fields ([`fields_on`]).
+/// cut from, the mid-edge nodes of quadratic cells, and the points the polyhedra added (each a
+/// mean of the file's points). A time series keeps it with a step so that the next step with
+/// the same points and cells builds only its fields ([`fields_on`]).
 #[derive(Debug, Clone)]
 pub struct Shape {
     parent: Vec<u32>,
     midpoints: HashMap<(u32, u32), u32>,
+    added: cut::Added,
+}
+
+impl Shape {
+    /// How many points the polyhedra added after the file's (the mesh's last points).
+    pub fn added_points(&self) -> usize {
+        self.added.len()
+    }
 }
 
 /// [`volume`], with the [`Shape`] its fields were built on (`None` for a `.vtu` that VoRANG
@@ -113,19 +122,15 @@ pub fn volume_with_shape(
         added,
         ..
     } = cut;
-    added.extend(&mut nodes, &mut point_arrays);
+    added.extend_points(&mut nodes);
+    added.extend_arrays(&mut point_arrays);
+    let added = added.means_only();
     if tets.is_empty() {
         return Err(err(
             cells_line,
             "no volume cells (tetrahedra, hexahedra, voxels, wedges, pyramids, quadratic tetrahedra, Lagrange cells or polyhedra): nothing to render".into(),
         ));
     }
-    // A point array whose mid-edge values all lie exactly halfway is linear on every cell: it
-    // stays a Linear field, and the edges are needed only for the others.
-    let quadratic = quadratic
-        && point_arrays
-            .iter()
-            .any(|a| !fields::linear_on_edges(a, &midpoints));
     let mesh = tet_mesh(
         &source,
         nodes,
@@ -173,7 +178,12 @@ pub fn volume_with_shape(
         tet_edges,
     };
     let vol = Volume::new(source, geometry, data)?;
-    Ok((vol, Some(Shape { parent, midpoints }), warnings))
+    let shape = Shape {
+        parent,
+        midpoints,
+        added,
+    };
+    Ok((vol, Some(shape), warnings))
 }
 
 /// The volume of `desc` on the geometry of `like`, whose mesh was built from the same points
@@ -187,15 +197,21 @@ pub fn fields_on(
 ) -> Result<(Volume, Vec<Warning>), ParseError> {
     let MeshDescription {
         source,
-        point_arrays,
+        mut point_arrays,
         cell_arrays,
         cells,
         warnings,
         ..
     } = desc;
     for a in point_arrays.iter() {
-        fields::check_array(&source, a, like.mesh.node_count(), "points")?;
+        fields::check_array(
+            &source,
+            a,
+            like.mesh.node_count() - shape.added.len(),
+            "points",
+        )?;
     }
+    shape.added.extend_arrays(&mut point_arrays);
     for a in cell_arrays.iter() {
         fields::check_array(&source, a, cells.len(), "cells")?;
     }
