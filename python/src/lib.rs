@@ -261,9 +261,12 @@ impl PyVolume {
     }
 
     /// Volume._from_blocks(points, blocks, point_data=None, cell_data=None): blocks is a list
-    /// of (VTK cell type, (k, n) int array); non-tetrahedral volume cells are split as the file
-    /// readers split them, other cells are skipped with a warning. Cell data covers the cells
-    /// of all blocks in order. (Used by from_meshio / from_pyvista.)
+    /// of (VTK cell type, (k, n) int array); non-tetrahedral volume cells (hexahedra, voxels,
+    /// wedges, pyramids, quadratic and Lagrange cells, polyhedra) are split as the file readers
+    /// split them, other cells are skipped with a warning. A polyhedron's row (type 42) is its
+    /// face stream: the number of faces, then each face as its number of points and its
+    /// points. Cell data covers the cells of all blocks in order. (Used by from_meshio /
+    /// from_pyvista.)
     #[staticmethod]
     #[pyo3(signature = (points, blocks, point_data=None, cell_data=None))]
     fn _from_blocks(
@@ -288,6 +291,16 @@ impl PyVolume {
             let idx = i64_values(&arr)?;
             check_indices(&idx, shape[1].max(1), nodes.len(), "cells")?;
             for c in idx.chunks_exact(shape[1].max(1)) {
+                if ty == cell_type::POLYHEDRON {
+                    // A polyhedron's row is its face stream.
+                    cells.push_face_stream(c).map_err(|m| {
+                        PyValueError::new_err(format!(
+                            "cells: the face stream of cell {} (a polyhedron): {m}",
+                            cells.len() + 1
+                        ))
+                    })?;
+                    continue;
+                }
                 let n: Vec<u64> = c.iter().map(|&i| i as u64).collect();
                 cells.push(ty, &n);
             }
@@ -312,15 +325,18 @@ impl PyVolume {
     }
 
     /// Volume.from_meshio(mesh): a Volume from a meshio.Mesh (duck-typed, no meshio needed
-    /// here): points, cells, point_data, cell_data. Hexahedra, wedges, pyramids are split into
-    /// tetrahedra as the file readers split them; surface and line cells are skipped.
+    /// here): points, cells, point_data, cell_data. Hexahedra, wedges, pyramids, Lagrange cells
+    /// (VTK_LAGRANGE_*) and polyhedra ("polyhedronN") are split into tetrahedra as the file
+    /// readers split them; surface and line cells are skipped.
     #[staticmethod]
     fn from_meshio<'py>(py: Python<'py>, mesh: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         py.import("vorang")?.getattr("_from_meshio")?.call1((mesh,))
     }
 
     /// Volume.from_pyvista(grid): a Volume from a PyVista UnstructuredGrid (duck-typed):
-    /// points, celltypes, cells, point_data, cell_data; mixed cells split as the readers do.
+    /// points, celltypes, cells, point_data, cell_data; mixed, voxel, Lagrange cells (as
+    /// `pyvista.UnstructuredGrid(*dolfinx.plot.vtk_mesh(V))` has them) and polyhedra (through
+    /// the grid's face stream) split as the readers do.
     #[staticmethod]
     fn from_pyvista<'py>(py: Python<'py>, grid: &Bound<'py, PyAny>) -> PyResult<Bound<'py, PyAny>> {
         py.import("vorang")?

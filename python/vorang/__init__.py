@@ -203,7 +203,8 @@ def animate(series, path, *, fps=10, label=None, progress=None, **render_kwargs)
     )
 
 
-# meshio cell type names → VTK cell types (the readers' numbering).
+# meshio cell type names → VTK cell types (the readers' numbering). meshio names VTK's
+# Lagrange cells by their VTK names; "polyhedronN" (N points) are polyhedra.
 _MESHIO_TYPES = {
     "vertex": 1,
     "line": 3,
@@ -214,17 +215,36 @@ _MESHIO_TYPES = {
     "wedge": 13,
     "pyramid": 14,
     "tetra10": 24,
+    "VTK_LAGRANGE_TETRAHEDRON": 71,
+    "VTK_LAGRANGE_HEXAHEDRON": 72,
+    "VTK_LAGRANGE_WEDGE": 73,
+    "VTK_LAGRANGE_PYRAMID": 74,
 }
+
+
+def _face_stream(faces):
+    """VTK's face stream of one polyhedron given as a list of faces (lists of point ids)."""
+    stream = [len(faces)]
+    for face in faces:
+        face = [int(i) for i in face]
+        stream += [len(face)] + face
+    return stream
 
 
 def _from_meshio(mesh) -> Volume:
     """A Volume from a meshio.Mesh (duck-typed: points, cells with .type/.data,
-    point_data, cell_data). Hexahedra, wedges and pyramids are split into tetrahedra as the
-    file readers split them; other cells are skipped with a warning."""
+    point_data, cell_data). Hexahedra, wedges, pyramids, Lagrange cells and polyhedra are
+    split into tetrahedra as the file readers split them; other cells are skipped with a
+    warning."""
     import numpy as np
 
     blocks = []
     for block in mesh.cells:
+        if block.type.startswith("polyhedron"):
+            # One polyhedron per block row: its faces as point lists.
+            for faces in block.data:
+                blocks.append((42, np.array([_face_stream(faces)])))
+            continue
         ty = _MESHIO_TYPES.get(block.type)
         if ty is None:
             raise ValueError(f"from_meshio: cell type {block.type!r} is not supported")
@@ -264,9 +284,52 @@ def _structured_cells(dims):
     return base[:, None].astype(np.int64) + corners[None, :]
 
 
+def _polyhedron_streams(grid):
+    """The face stream of every polyhedron (VTK 42) of a PyVista grid, by cell index:
+    from `polyhedron_faces` / `polyhedron_face_locations` (PyVista 0.45 and later, VTK 9.4),
+    else from `faces` / `face_locations` (earlier ones)."""
+    import numpy as np
+
+    def legacy_list(array):
+        """[n, a, b, …, n, …] → list of lists."""
+        out, pos, array = [], 0, [int(v) for v in np.asarray(array).ravel()]
+        while pos < len(array):
+            n = array[pos]
+            out.append(array[pos + 1 : pos + 1 + n])
+            pos += 1 + n
+        return out
+
+    if hasattr(grid, "polyhedron_faces") and hasattr(grid, "polyhedron_face_locations"):
+        faces = legacy_list(grid.polyhedron_faces)
+        per_cell = legacy_list(grid.polyhedron_face_locations)
+        return {
+            i: _face_stream([faces[f] for f in ids])
+            for i, ids in enumerate(per_cell)
+            if ids
+        }
+    if hasattr(grid, "faces") and hasattr(grid, "face_locations"):
+        stream = [int(v) for v in np.asarray(grid.faces).ravel()]
+        streams = {}
+        for i, start in enumerate(np.asarray(grid.face_locations).ravel().tolist()):
+            if start < 0:
+                continue
+            pos, n = start + 1, stream[start]
+            for _ in range(n):
+                pos += 1 + stream[pos]
+            streams[i] = stream[start:pos]
+        return streams
+    raise ValueError(
+        "from_pyvista: the grid has polyhedra (VTK type 42) but offers no face stream "
+        "(neither polyhedron_faces and polyhedron_face_locations nor faces and "
+        "face_locations)"
+    )
+
+
 def _unstructured_blocks(grid):
     """(blocks, order) of an UnstructuredGrid: one (VTK type, (k, n) connectivity) block per
-    cell type, and the permutation of the cells that groups them so (for the cell data)."""
+    cell type and size (Lagrange cells of one type may differ in degree), one block per
+    polyhedron (its face stream, see `_polyhedron_streams`), and the permutation of the cells
+    that groups them so (for the cell data)."""
     import numpy as np
 
     types = np.asarray(grid.celltypes).astype(np.int64)
@@ -297,22 +360,31 @@ def _unstructured_blocks(grid):
             lut[t] = n
         counts = lut[types]
         if (counts < 0).any():
-            raise ValueError(
-                "from_pyvista: cells of variable size need a grid with offset and "
-                "cell_connectivity (PyVista ≥ 0.36)"
-            )
+            # Cells of variable size (Lagrange cells, polyhedra): the list says each size.
+            counts = np.empty(len(types), dtype=np.int64)
+            pos = 0
+            for c in range(len(types)):
+                counts[c] = cells[pos]
+                pos += 1 + int(cells[pos])
         starts = np.concatenate([[0], np.cumsum(counts + 1)[:-1]]) + 1
         conn = cells
-    order = np.argsort(types, kind="stable")
+    streams = _polyhedron_streams(grid) if (types == 42).any() else {}
+    order = np.lexsort((counts, types))
+    change = (np.diff(types[order]) != 0) | (np.diff(counts[order]) != 0)
     blocks = []
-    for ty in np.unique(types):
-        pick = order[types[order] == ty]
-        n = np.unique(counts[pick])
-        if len(n) != 1:
-            raise ValueError(f"from_pyvista: cells of VTK type {int(ty)} have different sizes")
-        n = int(n[0])
+    for pick in np.split(order, np.flatnonzero(change) + 1):
+        if len(pick) == 0:
+            continue
+        ty, n = int(types[pick[0]]), int(counts[pick[0]])
+        if ty == 42:
+            for c in pick.tolist():
+                if c not in streams:
+                    raise ValueError(
+                        f"from_pyvista: cell {c} is a polyhedron, but the grid gives no faces for it"
+                    )
+                blocks.append((42, np.array([streams[c]], dtype=np.int64)))
+            continue
         block = conn[starts[pick][:, None] + np.arange(n)[None, :]]
-        ty = int(ty)
         if ty == 11:  # VTK_VOXEL → hexahedron
             block, ty = block[:, _VOXEL_AS_HEX], 12
         blocks.append((ty, block))
@@ -322,9 +394,11 @@ def _unstructured_blocks(grid):
 def _from_pyvista(grid) -> Volume:
     """A Volume from a PyVista grid (duck-typed, vectorised with numpy):
     UnstructuredGrid (points, celltypes, cells / offset + cell_connectivity; hexahedra, voxels,
-    wedges, pyramids and quadratic tetrahedra split as the readers split them), and ImageData,
-    RectilinearGrid and StructuredGrid (their hexahedra). Point and cell data keep their names;
-    cell data stays cell data."""
+    wedges, pyramids, quadratic tetrahedra and Lagrange cells — as
+    `pyvista.UnstructuredGrid(*dolfinx.plot.vtk_mesh(V))` holds them — split as the readers
+    split them, polyhedra through the grid's face stream), and ImageData, RectilinearGrid and
+    StructuredGrid (their hexahedra). Point and cell data keep their names; cell data stays
+    cell data."""
     import numpy as np
 
     points = np.asarray(grid.points)

@@ -27,10 +27,9 @@ import base64
 import lzma
 import os
 import struct
+import sys
 import zlib
 
-import lz4.block
-import meshio
 import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -101,6 +100,7 @@ def write_hmesh():
 
 
 def cube_meshio():
+    import meshio
     return meshio.Mesh(
         points, [("tetra", tets)],
         point_data={"temperature": temperature, "velocity": velocity},
@@ -113,6 +113,8 @@ def cube_meshio():
 
 
 def compress(data, compressor, block):
+    import lz4.block
+
     blocks = [data[i:i + block] for i in range(0, len(data), block)] or []
     if compressor == "zlib":
         comp = [zlib.compress(b) for b in blocks]
@@ -207,6 +209,7 @@ def write_vtu(name, pts, cells, ctypes, point_data, cell_data, fmt="appended", e
 
 
 def write_cube_variants():
+    import meshio
     pd = {"temperature": temperature, "velocity": velocity}
     cd = {"material": material, "pressure": pressure}
     cells = list(tets)
@@ -465,7 +468,302 @@ def write_gmsh_native():
     gmsh.finalize()
 
 
+# ------------------------------------------------------------------------------------------
+# Lagrange cells, voxels and polyhedra, written by VTK itself (`generate.py cells`)
+
+
+def linear_f(p):
+    return 1 + p[0] / 2 - p[1] / 4 + p[2] / 8
+
+
+def vtk_grid(points, cells, point_data=None, cell_data=None):
+    """A vtkUnstructuredGrid: double points, cells as (VTK type, ids or face stream)."""
+    import vtk
+    from vtk.util import numpy_support as ns
+
+    pts = vtk.vtkPoints()
+    pts.SetDataTypeToDouble()
+    for p in points:
+        pts.InsertNextPoint(*[float(c) for c in p])
+    grid = vtk.vtkUnstructuredGrid()
+    grid.SetPoints(pts)
+    for ty, ids in cells:
+        idl = vtk.vtkIdList()
+        for i in ids:
+            idl.InsertNextId(int(i))
+        grid.InsertNextCell(ty, idl)
+    for name, values in (point_data or {}).items():
+        a = ns.numpy_to_vtk(np.ascontiguousarray(values), deep=True)
+        a.SetName(name)
+        grid.GetPointData().AddArray(a)
+    for name, values in (cell_data or {}).items():
+        a = ns.numpy_to_vtk(np.ascontiguousarray(values), deep=True)
+        a.SetName(name)
+        grid.GetCellData().AddArray(a)
+    return grid
+
+
+def vtk_write(name, grid, ascii=False):
+    import vtk
+
+    w = vtk.vtkXMLUnstructuredGridWriter()
+    w.SetFileName(out(name))
+    w.SetInputData(grid)
+    if ascii:
+        w.SetDataModeToAscii()
+    assert w.Write() == 1, name
+
+
+def write_lagrange_tets():
+    """The cube mesh as dolfinx writes P1 and P2 functions: Lagrange tetrahedra (71)."""
+    pts, tets = kuhn_box(2)
+    pts = [list(p) for p in pts]
+    corners = len(pts)
+    index = {}
+    p2 = []
+    for t in tets:
+        mids = []
+        for a, b in [(0, 1), (1, 2), (0, 2), (0, 3), (1, 3), (2, 3)]:
+            key = tuple(sorted((int(t[a]), int(t[b]))))
+            if key not in index:
+                index[key] = len(pts)
+                pts.append([(pts[t[a]][c] + pts[t[b]][c]) / 2 for c in range(3)])
+            mids.append(index[key])
+        p2.append(list(t) + mids)
+    cid = {"material": np.array([1 + i % 2 for i in range(len(tets))], dtype=np.int32)}
+    f = np.array([linear_f(p) for p in pts])
+    q = np.array([p[0] * p[0] + p[1] * p[2] for p in pts])
+    vtk_write("lagrange_p1.vtu",
+              vtk_grid(pts[:corners], [(71, t) for t in tets], {"f": f[:corners]}, cid),
+              ascii=True)
+    vtk_write("lagrange_p2.vtu",
+              vtk_grid(pts, [(71, t) for t in p2], {"f": f, "q": q}, cid), ascii=True)
+
+
+def bar_corners():
+    """The corners of a 2 x 2 x 1 bar of unit cubes, numbered in a scrambled order."""
+    order = [(x, y, z) for z in (1, 0) for x in (2, 0, 1) for y in (1, 0, 2)]
+    return {c: k for k, c in enumerate(order)}, [list(map(float, c)) for c in order]
+
+
+CUBES = [(0, 0), (1, 0), (0, 1), (1, 1)]
+
+
+def write_lagrange_hexahedra():
+    import vtk
+
+    H = vtk.vtkLagrangeHexahedron
+    idx, pts = bar_corners()
+    hex_order = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0), (0, 0, 1), (1, 0, 1), (1, 1, 1), (0, 1, 1)]
+    linear = [[idx[(x + a, y + b, c)] for a, b, c in hex_order] for x, y in CUBES]
+    half = {}
+
+    def node(p):
+        if p[0] == int(p[0]) and p[1] == int(p[1]) and p[2] == int(p[2]):
+            return idx[tuple(int(c) for c in p)]
+        if p not in half:
+            half[p] = len(pts) + len(half)
+        return half[p]
+
+    quadratic = []
+    for x, y in CUBES:
+        conn = [0] * 27
+        for k in range(3):
+            for j in range(3):
+                for i in range(3):
+                    conn[H.PointIndexFromIJK(i, j, k, [2, 2, 2])] = node((x + i / 2, y + j / 2, k / 2))
+        quadratic.append(conn)
+    pts2 = pts + [list(p) for p, _ in sorted(half.items(), key=lambda kv: kv[1])]
+    f1 = np.array([linear_f(p) for p in pts])
+    f2 = np.array([linear_f(p) for p in pts2])
+    part = {"part": np.array([3, 4, 5, 6], dtype=np.int32)}
+    vtk_write("lagrange_hex_p1.vtu", vtk_grid(pts, [(72, c) for c in linear], {"f": f1}, part))
+    vtk_write("lagrange_hex_p2.vtu", vtk_grid(pts2, [(72, c) for c in quadratic], {"f": f2}, part))
+    vtk_write("hexahedra_bar.vtu", vtk_grid(pts, [(12, c) for c in linear], {"f": f1}, part))
+    voxel = [[c[k] for k in (0, 1, 3, 2, 4, 5, 7, 6)] for c in linear]
+    vtk_write("voxels.vtu", vtk_grid(pts, [(11, c) for c in voxel], {"f": f1}, part))
+    # VTK 8's order: the nodes of the vertical edges from vertices 2 and 3 change places.
+    old = [c[:18] + [c[19], c[18]] + c[20:] for c in quadratic]
+    write_vtu("lagrange_hex_p2_vtk8.vtu", np.array(pts2), old, [72] * 4, {"f": f2},
+              {"part": part["part"]}, fmt="ascii")
+
+
+def parametric_coords(cls, n):
+    c = cls()
+    c.GetPointIds().SetNumberOfIds(n)
+    c.GetPoints().SetNumberOfPoints(n)
+    c.Initialize()
+    if hasattr(c, "SetUniformOrderFromNumPoints"):
+        c.SetUniformOrderFromNumPoints(n)
+    pc = c.GetParametricCoords()
+    return [pc[3 * i:3 * i + 3] for i in range(n)]
+
+
+def write_lagrange_orders():
+    """One Lagrange cell of each shape and degree 1 … 4 (and the 21-node wedge), each placed
+    by an affine map of VTK's parametric coordinates of its nodes."""
+    import vtk
+
+    shapes = [(71, vtk.vtkLagrangeTetra, [4, 10, 20, 35]),
+              (72, vtk.vtkLagrangeHexahedron, [8, 27, 64, 125]),
+              (73, vtk.vtkLagrangeWedge, [6, 18, 21, 40, 75])]
+    pts, cells = [], []
+    shift = 0.0
+    for ty, cls, counts in shapes:
+        for n in counts:
+            start = len(pts)
+            for r, s_, t in parametric_coords(cls, n):
+                pts.append([shift + 2 * r + 0.5 * s_, 1.5 * s_ - 0.25 * t, 1.25 * t + 0.125 * r])
+            cells.append((ty, list(range(start, len(pts)))))
+            shift += 3.0
+    f = np.array([linear_f(p) for p in pts])
+    vtk_write("lagrange_orders.vtu", vtk_grid(pts, cells, {"f": f}), ascii=True)
+
+
+def cube_faces(x, y, idx):
+    """The six faces of the unit cube at (x, y, 0), some listed inwards, starting anywhere."""
+    c = lambda a, b, z: idx[(x + a, y + b, z)]
+    faces = [
+        [c(0, 0, 0), c(0, 1, 0), c(1, 1, 0), c(1, 0, 0)],
+        [c(0, 0, 1), c(1, 0, 1), c(1, 1, 1), c(0, 1, 1)],
+        [c(0, 0, 0), c(1, 0, 0), c(1, 0, 1), c(0, 0, 1)],
+        [c(0, 1, 1), c(1, 1, 1), c(1, 1, 0), c(0, 1, 0)],
+        [c(0, 0, 0), c(0, 0, 1), c(0, 1, 1), c(0, 1, 0)],
+        [c(1, 0, 0), c(1, 1, 0), c(1, 1, 1), c(1, 0, 1)],
+    ]
+    # Vary the orientation and the first point from cell to cell.
+    turn = (x + 2 * y) % 4
+    faces = [f[turn:] + f[:turn] for f in faces]
+    if (x + y) % 2:
+        faces = [f[::-1] for f in faces]
+    return faces
+
+
+def write_polyhedra():
+    import meshio
+
+    idx, pts = bar_corners()
+    polys = [cube_faces(x, y, idx) for x, y in CUBES]
+    streams = []
+    for faces in polys:
+        stream = [len(faces)]
+        for fc in faces:
+            stream += [len(fc)] + fc
+        streams.append(stream)
+    f = np.array([linear_f(p) for p in pts])
+    part = {"part": np.array([3, 4, 5, 6], dtype=np.int32)}
+    grid = vtk_grid(pts, [(42, s_) for s_ in streams], {"f": f}, part)
+    vtk_write("polyhedra.vtu", grid)
+    vtk_write("polyhedra_ascii.vtu", grid, ascii=True)
+    import vtk
+
+    w = vtk.vtkUnstructuredGridWriter()
+    w.SetFileName(out("polyhedra.vtk"))
+    w.SetInputData(grid)
+    assert w.Write() == 1
+    # The layout before VTK 9.4, as VTK wrote it: `faces` (each cell's face stream) and
+    # `faceoffsets` (where each cell's stream ends).
+    conn = [sorted({n for fc in faces for n in fc}) for faces in polys]
+    offsets = np.cumsum([len(c) for c in conn])
+    face_ends = np.cumsum([len(s_) for s_ in streams])
+    txt = lambda a: " ".join(str(v) for v in a)
+    body = f"""<?xml version="1.0"?>
+<VTKFile type="UnstructuredGrid" version="1.0" byte_order="LittleEndian" header_type="UInt64">
+  <UnstructuredGrid>
+    <Piece NumberOfPoints="{len(pts)}" NumberOfCells="{len(polys)}">
+      <PointData>
+        <DataArray type="Float64" Name="f" format="ascii">{txt(repr(float(v)) for v in f)}</DataArray>
+      </PointData>
+      <CellData>
+        <DataArray type="Int32" Name="part" format="ascii">{txt(part["part"])}</DataArray>
+      </CellData>
+      <Points>
+        <DataArray type="Float64" Name="Points" NumberOfComponents="3" format="ascii">
+          {txt(repr(c) for p in pts for c in p)}
+        </DataArray>
+      </Points>
+      <Cells>
+        <DataArray type="Int64" Name="connectivity" format="ascii">{txt(n for c in conn for n in c)}</DataArray>
+        <DataArray type="Int64" Name="offsets" format="ascii">{txt(offsets)}</DataArray>
+        <DataArray type="UInt8" Name="types" format="ascii">{txt([42] * len(polys))}</DataArray>
+        <DataArray type="Int64" Name="faces" format="ascii">{txt(n for s_ in streams for n in s_)}</DataArray>
+        <DataArray type="Int64" Name="faceoffsets" format="ascii">{txt(face_ends)}</DataArray>
+      </Cells>
+    </Piece>
+  </UnstructuredGrid>
+</VTKFile>
+"""
+    with open(out("polyhedra_old.vtu"), "w") as fh:
+        fh.write(body)
+    # Two parts of two cubes each, each with only its own points (numbered anew), and a
+    # ParaView collection of two time steps, each the two parts (merged when read).
+    for k, part_cells in enumerate([[0, 1], [2, 3]]):
+        used = sorted({n for c in part_cells for fc in polys[c] for n in fc})
+        local = {g: i for i, g in enumerate(used)}
+        part_streams = []
+        for c in part_cells:
+            stream = [len(polys[c])]
+            for fc in polys[c]:
+                stream += [len(fc)] + [local[n] for n in fc]
+            part_streams.append(stream)
+        vtk_write(f"polyhedra_part_{k}.vtu",
+                  vtk_grid([pts[g] for g in used], [(42, s_) for s_ in part_streams],
+                           {"f": f[used]}, {"part": part["part"][part_cells]}))
+    datasets = "\n".join(
+        f'    <DataSet timestep="{t}" group="" part="{k}" file="polyhedra_part_{k}.vtu"/>'
+        for t in (0, 1) for k in (0, 1))
+    with open(out("polyhedra_parts.pvd"), "w") as fh:
+        fh.write(f"""<?xml version="1.0"?>
+<VTKFile type="Collection" version="0.1" byte_order="LittleEndian">
+  <Collection>
+{datasets}
+  </Collection>
+</VTKFile>
+""")
+    mesh = meshio.Mesh(np.array(pts), [("polyhedron8", [[np.array(fc) for fc in faces] for faces in polys])],
+                       point_data={"f": f}, cell_data={"part": [part["part"]]})
+    meshio.vtu.write(out("polyhedra_meshio.vtu"), mesh, binary=False)
+
+
+def write_polyhedra_prisms():
+    """Two pentagonal prisms sharing a pentagon, a pentagonal pyramid on top (triangular
+    faces), and a tetrahedron sharing one of the pyramid's triangles."""
+    import math
+
+    ring = [(math.cos(2 * math.pi * k / 5), math.sin(2 * math.pi * k / 5)) for k in range(5)]
+    pts = [[x, y, z] for z in (0.0, 1.0, 2.0) for x, y in ring]
+    apex, outside = len(pts), len(pts) + 1
+    pts += [[0.0, 0.0, 3.0], [2.0, 0.5, 3.0]]
+    level = lambda z: [5 * z + k for k in range(5)]
+    polys = []
+    for z in (0, 1):
+        lo, hi = level(z), level(z + 1)
+        polys.append([lo[::-1], hi] + [[lo[k], lo[(k + 1) % 5], hi[(k + 1) % 5], hi[k]] for k in range(5)])
+    top = level(2)
+    polys.append([top[::-1]] + [[top[k], top[(k + 1) % 5], apex] for k in range(5)])
+    cells = []
+    for faces in polys:
+        stream = [len(faces)]
+        for fc in faces:
+            stream += [len(fc)] + fc
+        cells.append((42, stream))
+    cells.append((10, [top[1], top[0], outside, apex]))
+    f = np.array([linear_f(p) for p in pts])
+    vtk_write("polyhedra_prisms.vtu", vtk_grid(pts, cells, {"f": f}), ascii=True)
+
+
+def write_cells():
+    write_lagrange_tets()
+    write_lagrange_hexahedra()
+    write_lagrange_orders()
+    write_polyhedra()
+    write_polyhedra_prisms()
+
+
 if __name__ == "__main__":
+    if sys.argv[1:] == ["cells"]:
+        write_cells()
+        sys.exit(0)
     write_gmsh_native()
     write_hmesh()
     write_msh41_with_entities()

@@ -19,6 +19,7 @@
 pub mod build;
 pub mod collection;
 pub mod hypermesh;
+pub mod lagrange;
 pub mod layout;
 pub mod msh;
 mod text;
@@ -33,26 +34,58 @@ use crate::volume::Volume;
 /// VTK cell type numbers (the ones VoRANG turns into tetrahedra, and a few it names in
 /// warnings). Gmsh element types are translated to these by the `.msh` reader.
 pub mod cell_type {
+    use super::lagrange::Shape;
+
     pub const VERTEX: u8 = 1;
     pub const LINE: u8 = 3;
     pub const TRIANGLE: u8 = 5;
     pub const QUAD: u8 = 9;
     pub const TETRA: u8 = 10;
+    pub const VOXEL: u8 = 11;
     pub const HEXAHEDRON: u8 = 12;
     pub const WEDGE: u8 = 13;
     pub const PYRAMID: u8 = 14;
     pub const QUADRATIC_TETRA: u8 = 24;
+    pub const POLYHEDRON: u8 = 42;
+    pub const LAGRANGE_TETRAHEDRON: u8 = 71;
+    pub const LAGRANGE_HEXAHEDRON: u8 = 72;
+    pub const LAGRANGE_WEDGE: u8 = 73;
+    pub const LAGRANGE_PYRAMID: u8 = 74;
 
-    /// Number of nodes of the volume cell types VoRANG reads, `None` for the others.
+    /// Number of nodes of the volume cell types with a fixed number of nodes, `None` for the
+    /// others (see [`is_volume`] and [`node_count_problem`]).
     pub fn volume_nodes(t: u8) -> Option<usize> {
         match t {
             TETRA => Some(4),
-            HEXAHEDRON => Some(8),
+            VOXEL | HEXAHEDRON => Some(8),
             WEDGE => Some(6),
             PYRAMID => Some(5),
             QUADRATIC_TETRA => Some(10),
             _ => None,
         }
+    }
+
+    /// Whether cells of type `t` are volume cells VoRANG renders (with a fixed number of nodes,
+    /// Lagrange cells of any degree, polyhedra).
+    pub fn is_volume(t: u8) -> bool {
+        volume_nodes(t).is_some() || t == POLYHEDRON || Shape::of(t).is_some()
+    }
+
+    /// What is wrong with a volume cell of type `t` having `n` nodes ("needs 8 nodes"), `None`
+    /// if nothing is (or if `t` is no volume cell). A polyhedron lists its distinct points.
+    pub fn node_count_problem(t: u8, n: usize) -> Option<String> {
+        if let Some(need) = volume_nodes(t) {
+            return (n != need).then(|| format!("needs {need} nodes"));
+        }
+        if let Some(shape) = Shape::of(t) {
+            return shape.degree(n).is_none().then(|| {
+                format!(
+                    "needs the node count of a degree (for degrees 1, 2, 3: {})",
+                    shape.counts()
+                )
+            });
+        }
+        (t == POLYHEDRON && n < 4).then(|| "needs at least 4 points".to_string())
     }
 
     /// A readable name for messages.
@@ -63,10 +96,17 @@ pub mod cell_type {
             TRIANGLE => "triangle".into(),
             QUAD => "quad".into(),
             TETRA => "tetrahedron".into(),
+            VOXEL => "voxel".into(),
             HEXAHEDRON => "hexahedron".into(),
             WEDGE => "wedge".into(),
             PYRAMID => "pyramid".into(),
             QUADRATIC_TETRA => "quadratic tetrahedron".into(),
+            POLYHEDRON => "polyhedron".into(),
+            LAGRANGE_TETRAHEDRON => "Lagrange tetrahedron".into(),
+            LAGRANGE_HEXAHEDRON => "Lagrange hexahedron".into(),
+            LAGRANGE_WEDGE => "Lagrange wedge".into(),
+            LAGRANGE_PYRAMID => "Lagrange pyramid".into(),
+            255 => "higher-order element VoRANG does not read".into(),
             other => format!("VTK cell type {other}"),
         }
     }
@@ -123,6 +163,7 @@ impl Array {
 
 /// Cells as VTK stores them: a type per cell and a flat connectivity list, cell `i` using
 /// `connectivity[offsets[i]..offsets[i + 1]]` (so `offsets` has one entry more than `types`).
+/// A polyhedron (VTK 42) lists its distinct points there and its faces in [`Faces`].
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct Cells {
     pub types: Vec<u8>,
@@ -131,6 +172,8 @@ pub struct Cells {
     /// indices while a large file is read). An index that does not fit is stored as
     /// `u32::MAX`, which is out of range for every mesh and reported as such.
     pub connectivity: Vec<u32>,
+    /// The faces of the polyhedra.
+    pub faces: Faces,
 }
 
 impl Cells {
@@ -156,6 +199,110 @@ impl Cells {
         self.connectivity
             .extend(nodes.iter().map(|&n| u32::try_from(n).unwrap_or(u32::MAX)));
         self.offsets.push(self.connectivity.len());
+    }
+
+    /// Appends a polyhedron given as VTK's face stream, as legacy `.vtk` files and PyVista
+    /// hold it: the number of faces, then each face as its number of points and its points.
+    /// Its points are the distinct points of its faces. An error says what does not add up.
+    pub fn push_face_stream(&mut self, stream: &[i64]) -> Result<(), String> {
+        let faces = parse_face_stream(stream)?;
+        let mut points: Vec<u32> = faces.iter().flatten().copied().collect();
+        points.sort_unstable();
+        points.dedup();
+        let points: Vec<u64> = points.into_iter().map(u64::from).collect();
+        self.push(cell_type::POLYHEDRON, &points);
+        self.faces
+            .push(self.len() - 1, faces.iter().map(Vec::as_slice));
+        Ok(())
+    }
+}
+
+/// The faces of a face stream (see [`Cells::push_face_stream`]).
+pub(crate) fn parse_face_stream(stream: &[i64]) -> Result<Vec<Vec<u32>>, String> {
+    let count = |at: usize, what: &str| -> Result<usize, String> {
+        let v = stream.get(at).copied().ok_or_else(|| {
+            format!(
+                "the face stream ends after {} numbers, where {what} should follow",
+                stream.len()
+            )
+        })?;
+        usize::try_from(v)
+            .ok()
+            .filter(|&n| n <= stream.len())
+            .ok_or_else(|| {
+                format!(
+                    "{what} is {v}, which the stream of {} numbers cannot hold",
+                    stream.len()
+                )
+            })
+    };
+    let n = count(0, "the number of faces")?;
+    let mut faces = Vec::with_capacity(n);
+    let mut at = 1;
+    for f in 0..n {
+        let k = count(at, &format!("the number of points of face {}", f + 1))?;
+        let ids = stream.get(at + 1..at + 1 + k).ok_or_else(|| {
+            format!(
+                "face {} has {k} points, but the face stream ends after {} numbers",
+                f + 1,
+                stream.len()
+            )
+        })?;
+        let face = ids
+            .iter()
+            .map(|&v| u32::try_from(v).map_err(|_| format!("face {} refers to point {v}", f + 1)))
+            .collect::<Result<Vec<u32>, String>>()?;
+        faces.push(face);
+        at += 1 + k;
+    }
+    if at != stream.len() {
+        return Err(format!(
+            "the {n} faces use {at} numbers of the face stream, but it has {}",
+            stream.len()
+        ));
+    }
+    Ok(faces)
+}
+
+/// The faces of the polyhedra among [`Cells`] (VTK ≥ 9.4 keeps them so): each face a list of
+/// 0-based node indices, each polyhedron a run of faces.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct Faces {
+    /// The polyhedra in cell order: the cell's index and its first face; its faces run to the
+    /// next polyhedron's first face (or to the last face).
+    pub cells: Vec<(usize, usize)>,
+    /// Face `f` uses `nodes[offsets[f]..offsets[f + 1]]` (empty, or starting with 0).
+    pub offsets: Vec<usize>,
+    pub nodes: Vec<u32>,
+}
+
+impl Faces {
+    /// Number of faces.
+    pub fn len(&self) -> usize {
+        self.offsets.len().saturating_sub(1)
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+
+    /// The faces of cell `i`, `None` if it has none.
+    pub fn of(&self, i: usize) -> Option<impl Iterator<Item = &[u32]>> {
+        let k = self.cells.binary_search_by_key(&i, |c| c.0).ok()?;
+        let end = self.cells.get(k + 1).map_or(self.len(), |c| c.1);
+        Some((self.cells[k].1..end).map(|f| &self.nodes[self.offsets[f]..self.offsets[f + 1]]))
+    }
+
+    /// Appends the faces of cell `i`, which comes after every cell appended before.
+    pub fn push<'a>(&mut self, i: usize, faces: impl IntoIterator<Item = &'a [u32]>) {
+        if self.offsets.is_empty() {
+            self.offsets.push(0);
+        }
+        self.cells.push((i, self.len()));
+        for f in faces {
+            self.nodes.extend_from_slice(f);
+            self.offsets.push(self.nodes.len());
+        }
     }
 }
 

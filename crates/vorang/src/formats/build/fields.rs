@@ -37,8 +37,10 @@ pub(super) fn data_set(
     for a in point_arrays {
         let line = a.line;
         match edges {
-            Some(list) => higher_order_field(&mut data, a, list, midpoints, origin(line)),
-            None => linear_field(&mut data, a, origin(line)),
+            Some(list) if !linear_on_edges(&a, midpoints) => {
+                higher_order_field(&mut data, a, list, midpoints, origin(line))
+            }
+            _ => linear_field(&mut data, a, origin(line)),
         }
     }
     for a in cell_arrays {
@@ -59,6 +61,17 @@ pub(super) fn data_set(
         });
     }
     data
+}
+
+/// Whether every mid-edge value of the array lies exactly halfway between the values at the
+/// edge's ends (in every component): then the quadratic interpolation is the linear one, and
+/// the array is a `Linear` field.
+pub(super) fn linear_on_edges(a: &Array, midpoints: &HashMap<(u32, u32), u32>) -> bool {
+    let n = a.components;
+    let v = |node: u32, c: usize| a.values.get(node as usize * n + c);
+    midpoints
+        .iter()
+        .all(|(&(p, q), &m)| (0..n).all(|c| v(m, c) == 0.5 * (v(p, c) + v(q, c))))
 }
 
 /// A point array as a `Linear` field.

@@ -9,17 +9,21 @@
 //! that do not contain `v` — a triangle gives one tetrahedron, a quadrilateral a pyramid that is
 //! cut along the face's own smallest-node diagonal into two. The faces that contain `v` are
 //! cut through `v`, which is their smallest node too. A hexahedron gives 6 tetrahedra, a wedge
-//! 3, a pyramid 2. Quadratic tetrahedra (VTK 24, Gmsh 11) become their corner tetrahedron, and
-//! every point array then becomes a `HigherOrder` (P2) field from the corner values and the
-//! mid-edge values (edges without a mid-edge node, e.g. of linear cells in the same file, get
-//! the mean of their ends, which keeps the field linear along them). Other cells (points, lines,
-//! faces, polyhedra, other higher-order cells) are skipped with one warning that counts them by
-//! type; a file without volume cells is an error.
+//! 3, a pyramid 2; a voxel is a hexahedron with its nodes in another order. Quadratic
+//! tetrahedra (VTK 24, Gmsh 11) become their corner tetrahedron, and every point array then
+//! becomes a `HigherOrder` (P2) field from the corner values and the mid-edge values (edges
+//! without a mid-edge node, e.g. of linear cells in the same file, get the mean of their ends,
+//! which keeps the field linear along them); an array whose mid-edge values all lie exactly
+//! halfway is linear and stays a `Linear` field. Lagrange cells (VTK 71–74) are split by
+//! their degree (`higher`), polyhedra around added centre points (`polyhedra`), which join the
+//! file's points. Other cells (points, lines, faces, other higher-order cells) are skipped with
+//! one warning that counts them by type; a file without volume cells is an error.
 //!
 //! **Fields** (docs/formats.md, "Fields (VTK and Gmsh)"): field number = position in the file, point arrays
 //! first, then cell arrays. Point arrays become `Linear` fields (`HigherOrder` with quadratic
 //! cells), cell arrays `Constant` fields; a cell's value is carried by every tetrahedron cut
-//! from it.
+//! from it, and a point array's value at an added point is the mean of the points it stands
+//! for.
 //! Integer arrays become `int` data, except scalar integer *cell* arrays whose values all lie
 //! in 0…255: those are `byte`, so that `CONST_CELL`, `CategoryField` and `linedraw` take them
 //! (material ids, Gmsh physical groups). Float32 data stay `float`, everything else `double`;
@@ -32,7 +36,10 @@
 //! conforming split; the array-to-field-type table) with its own tests.
 
 mod cells;
+mod cut;
 mod fields;
+mod higher;
+mod polyhedra;
 
 use std::collections::HashMap;
 
@@ -41,9 +48,9 @@ use crate::data::ScalarType;
 use crate::error::{ParseError, Warning};
 use crate::mesh::{EDGE_NODES, TetMesh};
 use crate::volume::{Geometry, Volume};
-use cells::Tetrahedra;
+use cut::Tetrahedra;
 
-pub use cells::split_cell;
+pub use cut::split_cell;
 
 /// The smallest non-zero coordinate magnitude accepted (see [`volume`]).
 pub const MIN_MAGNITUDE: f64 = 1e-50;
@@ -54,12 +61,21 @@ pub fn volume(desc: MeshDescription) -> Result<(Volume, Vec<Warning>), ParseErro
 }
 
 /// What a volume's fields are built on besides its mesh: the file's cell each tetrahedron was
-/// cut from, and the mid-edge nodes of quadratic cells. A time series keeps it with a step so
-/// that the next step with the same points and cells builds only its fields ([`fields_on`]).
+/// cut from, the mid-edge nodes of quadratic cells, and the points the polyhedra added (each a
+/// mean of the file's points). A time series keeps it with a step so that the next step with
+/// the same points and cells builds only its fields ([`fields_on`]).
 #[derive(Debug, Clone)]
 pub struct Shape {
     parent: Vec<u32>,
     midpoints: HashMap<(u32, u32), u32>,
+    added: cut::Added,
+}
+
+impl Shape {
+    /// How many points the polyhedra added after the file's (the mesh's last points).
+    pub fn added_points(&self) -> usize {
+        self.added.len()
+    }
 }
 
 /// [`volume`], with the [`Shape`] its fields were built on (`None` for a `.vtu` that VoRANG
@@ -73,10 +89,10 @@ pub fn volume_with_shape(
     }
     let MeshDescription {
         source,
-        nodes,
+        mut nodes,
         float_coordinates,
         cells,
-        point_arrays,
+        mut point_arrays,
         cell_arrays,
         points_line,
         cells_line,
@@ -92,24 +108,27 @@ pub fn volume_with_shape(
         fields::check_array(&source, a, cells.len(), "cells")?;
     }
 
-    let Tetrahedra {
-        tets,
-        parent,
-        skipped,
-        midpoints,
-        quadratic,
-    } = cells::tetrahedra(&source, &cells, nodes.len(), cells_line)?;
+    let mut cut = cells::tetrahedra(&source, &cells, (&nodes, float_coordinates), cells_line)?;
     // The cell list is no longer needed (only the types, for messages): free it before the
     // mesh builds its adjacency, which keeps the peak memory of a load low.
     let cell_types = cells.types;
-    drop((cells.offsets, cells.connectivity));
-    if let Some(w) = cells::skipped_warning(&source, cells_line, skipped) {
-        warnings.push(w);
-    }
+    drop((cells.offsets, cells.connectivity, cells.faces));
+    warnings.extend(cells::warnings(&source, cells_line, &mut cut));
+    let Tetrahedra {
+        tets,
+        parent,
+        midpoints,
+        quadratic,
+        added,
+        ..
+    } = cut;
+    added.extend_points(&mut nodes);
+    added.extend_arrays(&mut point_arrays);
+    let added = added.means_only();
     if tets.is_empty() {
         return Err(err(
             cells_line,
-            "no volume cells (tetrahedra, hexahedra, wedges, pyramids or quadratic tetrahedra): nothing to render".into(),
+            "no volume cells (tetrahedra, hexahedra, voxels, wedges, pyramids, quadratic tetrahedra, Lagrange cells or polyhedra): nothing to render".into(),
         ));
     }
     let mesh = tet_mesh(
@@ -159,7 +178,12 @@ pub fn volume_with_shape(
         tet_edges,
     };
     let vol = Volume::new(source, geometry, data)?;
-    Ok((vol, Some(Shape { parent, midpoints }), warnings))
+    let shape = Shape {
+        parent,
+        midpoints,
+        added,
+    };
+    Ok((vol, Some(shape), warnings))
 }
 
 /// The volume of `desc` on the geometry of `like`, whose mesh was built from the same points
@@ -173,15 +197,21 @@ pub fn fields_on(
 ) -> Result<(Volume, Vec<Warning>), ParseError> {
     let MeshDescription {
         source,
-        point_arrays,
+        mut point_arrays,
         cell_arrays,
         cells,
         warnings,
         ..
     } = desc;
     for a in point_arrays.iter() {
-        fields::check_array(&source, a, like.mesh.node_count(), "points")?;
+        fields::check_array(
+            &source,
+            a,
+            like.mesh.node_count() - shape.added.len(),
+            "points",
+        )?;
     }
+    shape.added.extend_arrays(&mut point_arrays);
     for a in cell_arrays.iter() {
         fields::check_array(&source, a, cells.len(), "cells")?;
     }

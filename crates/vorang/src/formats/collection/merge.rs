@@ -269,6 +269,9 @@ fn drop_ghosts(d: &mut MeshDescription) {
     let mut cells = Cells::default();
     cells.offsets.push(0);
     for i in (0..n).filter(|&i| keep[i]) {
+        if let Some(faces) = d.cells.faces.of(i) {
+            cells.faces.push(cells.types.len(), faces);
+        }
         cells.types.push(d.cells.types[i]);
         cells.connectivity.extend_from_slice(d.cells.nodes(i));
         cells.offsets.push(cells.connectivity.len());
@@ -283,10 +286,22 @@ fn drop_ghosts(d: &mut MeshDescription) {
 }
 
 /// The piece's cells after the merged ones, its point indices mapped (an index outside the
-/// piece stays out of range).
+/// piece stays out of range), the faces of its polyhedra too.
 fn append_cells(dst: &mut Cells, src: &Cells, map: &[u32]) {
     if dst.offsets.is_empty() {
         dst.offsets.push(0);
+    }
+    let to = |n: &u32| map.get(*n as usize).copied().unwrap_or(u32::MAX);
+    for &(i, _) in &src.faces.cells {
+        let faces: Vec<Vec<u32>> = src
+            .faces
+            .of(i)
+            .into_iter()
+            .flatten()
+            .map(|f| f.iter().map(to).collect())
+            .collect();
+        dst.faces
+            .push(dst.types.len() + i, faces.iter().map(Vec::as_slice));
     }
     dst.types.extend_from_slice(&src.types);
     let base = dst.connectivity.len();

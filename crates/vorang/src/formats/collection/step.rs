@@ -34,8 +34,8 @@ pub struct StepVolume {
 #[derive(Debug, Clone)]
 struct Reuse {
     shape: Arc<Shape>,
-    /// A 128-bit digest of the cells (types, offsets, connectivity); the points are compared
-    /// exactly with the mesh's.
+    /// A 128-bit digest of the cells (types, offsets, connectivity, polyhedra's faces); the
+    /// points are compared exactly with the mesh's (whose points the polyhedra added follow).
     cells: u128,
 }
 
@@ -53,7 +53,7 @@ impl StepVolume {
         let same = reuse.cells == cells
             && desc.float_coordinates == float
             && !desc.field_arrays.iter().any(|a| a.name == LAYOUT_ARRAY)
-            && desc.nodes.len() == nodes.len()
+            && desc.nodes.len() + reuse.shape.added_points() == nodes.len()
             && desc
                 .nodes
                 .iter()
@@ -71,6 +71,8 @@ fn cells_digest(desc: &MeshDescription) -> u128 {
         desc.cells.types.hash(&mut h);
         desc.cells.offsets.hash(&mut h);
         desc.cells.connectivity.hash(&mut h);
+        let faces = &desc.cells.faces;
+        (&faces.cells, &faces.offsets, &faces.nodes).hash(&mut h);
         h.finish()
     };
     (u128::from(half(0x5eed_0001)) << 64) | u128::from(half(0x5eed_0002))

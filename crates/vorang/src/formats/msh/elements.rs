@@ -41,11 +41,13 @@ fn element_type(t: i64) -> Option<(u8, usize)> {
         26 => (68, 4),
         27 => (68, 5),
         28 => (68, 6),
-        29 => (71, 20),
-        30 => (71, 35),
-        31 => (71, 56),
-        92 => (72, 64),
-        93 => (72, 125),
+        // Tetrahedra and hexahedra of order 3 and more: Gmsh numbers their nodes otherwise
+        // than VTK's Lagrange cells, so they are not read as those (skipped with the others).
+        29 => (255, 20),
+        30 => (255, 35),
+        31 => (255, 56),
+        92 => (255, 64),
+        93 => (255, 125),
         _ => return None,
     })
 }

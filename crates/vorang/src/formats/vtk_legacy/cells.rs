@@ -5,7 +5,7 @@
 
 use super::Sections;
 use crate::error::ParseError;
-use crate::formats::{Cells, MeshDescription, cell_type};
+use crate::formats::{Cells, MeshDescription, cell_type, lagrange};
 
 /// Checks and adds cells by their index in `CELL_TYPES`.
 struct CellSink<'a> {
@@ -28,7 +28,22 @@ impl CellSink<'_> {
                 format!("cell {}: type {t} is not a VTK cell type", i + 1),
             ));
         }
-        if cell_type::volume_nodes(t as u8).is_some()
+        if t == i64::from(cell_type::POLYHEDRON) {
+            // A polyhedron's entry is its face stream.
+            let bad = |m: String| ParseError::new(name, line, format!("cell {}: {m}", i + 1));
+            let before = self.cells.faces.nodes.len();
+            self.cells.push_face_stream(nodes).map_err(bad)?;
+            if let Some(&n) = self.cells.faces.nodes[before..]
+                .iter()
+                .find(|&&n| i64::from(n) >= n_nodes)
+            {
+                return Err(bad(format!(
+                    "a face refers to point {n}, but there are {n_nodes} points (0-based)"
+                )));
+            }
+            return Ok(());
+        }
+        if cell_type::is_volume(t as u8)
             && let Some(&bad) = nodes.iter().find(|&&n| n < 0 || n >= n_nodes)
         {
             return Err(ParseError::new(
@@ -85,6 +100,16 @@ impl Sections {
         }
         if desc.cells.offsets.is_empty() {
             desc.cells.offsets.push(0);
+        }
+        // Lagrange hexahedra of files before 5.1 are in VTK 8's node order, as VTK reads them.
+        if self.version < 5.1 {
+            let cells = &mut desc.cells;
+            for i in 0..cells.len() {
+                if cells.types[i] == cell_type::LAGRANGE_HEXAHEDRON {
+                    let (a, b) = (cells.offsets[i], cells.offsets[i + 1]);
+                    lagrange::hexahedron_from_vtk8(&mut cells.connectivity[a..b]);
+                }
+            }
         }
         Ok(desc)
     }

@@ -5,8 +5,10 @@
 //! `CONNECTIVITY` arrays), `CELL_TYPES`, and in `POINT_DATA` / `CELL_DATA` the attributes
 //! `SCALARS` (with `LOOKUP_TABLE`), `VECTORS`, `NORMALS`, `TENSORS`, `TEXTURE_COORDINATES`,
 //! `COLOR_SCALARS` and `FIELD` arrays, in file order. Dataset-level `FIELD` data (time, cycle),
-//! standalone `LOOKUP_TABLE`s and `METADATA` blocks are read past. Errors name the line of the
-//! keyword, or the byte offset where binary data run out.
+//! standalone `LOOKUP_TABLE`s and `METADATA` blocks are read past. A polyhedron's entry in the
+//! cell list is its face stream; Lagrange hexahedra of files before 5.1 are in VTK 8's node
+//! order and put into today's, as VTK reads them. Errors name the line of the keyword, or the
+//! byte offset where binary data run out.
 //!
 //! Reading is a preamble (title, encoding, `DATASET`), then one keyword at a time (`sections`),
 //! each reading its numbers through `values` (ASCII or big-endian binary), and last the cells

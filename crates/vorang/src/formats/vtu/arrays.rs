@@ -98,7 +98,7 @@ fn decode_into(
             sink.seen, d.ty
         )));
     }
-    if sink.seen > want_bytes && !(d.section == Section::Cells && d.name == "offsets") {
+    if sink.seen > want_bytes && !may_be_longer(d) {
         return Err(err(format!(
             "holds {} bytes, but {count} values of {:?} need {want_bytes}: the array is longer than the counts say",
             sink.seen, d.ty
@@ -109,6 +109,18 @@ fn decode_into(
         .finish()
         .map_err(err)?;
     Ok(Decoded { values, index })
+}
+
+/// Whether an array may hold more values than are read from it: the cell offsets (some
+/// writers add a leading 0, one entry more than cells), and the face offsets and face
+/// connectivity of polyhedra, of which only the faces the polyhedra use are read (no count
+/// says how many faces there are).
+fn may_be_longer(d: &Decl) -> bool {
+    d.section == Section::Cells
+        && matches!(
+            d.name.as_str(),
+            "offsets" | "face_offsets" | "face_connectivity"
+        )
 }
 
 /// An appended array at `offset` of the appended data, raw or base64.
@@ -280,8 +292,7 @@ fn ascii_values(
             ints.push(v);
         }
     }
-    let is_offsets = d.section == Section::Cells && d.name == "offsets";
-    if toks.next().is_some() && !is_offsets {
+    if toks.next().is_some() && !may_be_longer(d) {
         return Err(ParseError::new(
             s.name,
             line_of_tok(count),

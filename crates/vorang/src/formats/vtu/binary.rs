@@ -284,6 +284,7 @@ mod tests {
             big_endian: false,
             header64: true,
             compressor: Compressor::Zlib,
+            version: (1, 0),
             appended: None,
             offsets: Vec::new(),
             limit: 1 << 20,

@@ -25,11 +25,14 @@
 //! its own: the XML walk (`xml`: declarations and settings, nothing decoded), array decoding
 //! (`arrays`: text or bytes to numbers), the binary layouts (`binary`: headers, base64,
 //! compressed-block tables) and the codecs (`compress`), then the assembly of the pieces into
-//! one description (`pieces`). Writing is `write`.
+//! one description (`pieces`), with the polyhedra's faces in either of VTK's two layouts
+//! (`faces`). Files before version 2.1 list Lagrange hexahedra in VTK 8's node order; they are
+//! put into today's, as VTK reads them. Writing is `write`.
 
 mod arrays;
 mod binary;
 mod compress;
+mod faces;
 mod pieces;
 mod sink;
 mod write;

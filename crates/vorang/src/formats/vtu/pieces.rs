@@ -7,10 +7,11 @@
 //! and read in the order a file is built.
 
 use super::arrays::{append_values, decode, decode_indices};
+use super::faces::PieceStart;
 use super::sink::Outside;
 use super::xml::{Decl, Document, NumType, Piece, Section, Settings};
 use crate::error::ParseError;
-use crate::formats::{Array, Cells, MeshDescription, cell_type};
+use crate::formats::{Array, Cells, MeshDescription, cell_type, lagrange};
 
 /// The name, components and type of each point or cell array of the first piece.
 type ArrayNames = Vec<(String, usize, NumType)>;
@@ -43,6 +44,9 @@ pub(super) fn assemble(doc: &Document) -> Result<MeshDescription, ParseError> {
     }
     a.field_arrays(&doc.decls)?;
     let mut desc = a.desc;
+    if s.version < (2, 1) {
+        vtk8_hexahedra(&mut desc.cells);
+    }
     for (i, a) in desc
         .point_arrays
         .iter_mut()
@@ -54,6 +58,17 @@ pub(super) fn assemble(doc: &Document) -> Result<MeshDescription, ParseError> {
         }
     }
     Ok(desc)
+}
+
+/// Lagrange hexahedra as files before version 2.1 list them (VTK 8's order) put into today's
+/// order, as VTK itself reads such files.
+fn vtk8_hexahedra(cells: &mut Cells) {
+    for i in 0..cells.len() {
+        if cells.types[i] == cell_type::LAGRANGE_HEXAHEDRON {
+            let (a, b) = (cells.offsets[i], cells.offsets[i + 1]);
+            lagrange::hexahedron_from_vtk8(&mut cells.connectivity[a..b]);
+        }
+    }
 }
 
 /// The description as it grows, piece by piece.
@@ -155,7 +170,12 @@ impl Assembly<'_> {
         integers(decls.types)?;
         integers(decls.offsets)?;
         let conn_len = self.types_and_offsets(piece, &decls, start.conn)?;
-        self.connectivity(piece, decls.conn, conn_len, start)
+        self.connectivity(piece, decls.conn, conn_len, start)?;
+        let at = PieceStart {
+            cell: start.cell,
+            node: start.node as u32,
+        };
+        super::faces::read(self.s, piece, here, &mut self.desc.cells, at)
     }
 
     /// Decodes, checks and stores the piece's cell types and offsets; returns the length of
@@ -203,14 +223,12 @@ impl Assembly<'_> {
                     ),
                 ));
             }
-            if let Some(need) = cell_type::volume_nodes(t as u8)
-                && (o - prev) as usize != need
-            {
+            if let Some(need) = cell_type::node_count_problem(t as u8, (o - prev) as usize) {
                 return Err(ParseError::new(
                     name,
                     off_d.line,
                     format!(
-                        "offsets: cell {} is a {} (type {t}) and needs {need} nodes, but its offsets give it {}",
+                        "offsets: cell {} is a {} (type {t}) and {need}, but its offsets give it {}",
                         i + 1,
                         cell_type::name(t as u8),
                         o - prev
@@ -390,7 +408,7 @@ fn check_connectivity(
     let (first_cell, conn_base) = (start.cell, start.conn);
     for i in first_cell..cells.types.len() {
         let t = cells.types[i];
-        if cell_type::volume_nodes(t).is_none() {
+        if !cell_type::is_volume(t) {
             continue;
         }
         let (a, b) = (

@@ -133,6 +133,9 @@ pub(super) struct Settings<'a> {
     pub(super) big_endian: bool,
     pub(super) header64: bool,
     pub(super) compressor: Compressor,
+    /// `<VTKFile version="major.minor">` ((0, 0) when absent): files before 2.1 list
+    /// Lagrange hexahedra in VTK 8's node order.
+    pub(super) version: (u32, u32),
     /// The appended data after the `_` (raw bytes, or base64 text without the closing tag).
     pub(super) appended: Option<(&'a [u8], usize, bool)>,
     /// Offsets of all appended arrays, sorted (to find where a base64 chunk ends).
@@ -189,6 +192,7 @@ pub(super) fn parse<'a>(bytes: &'a [u8], name: &'a str) -> Result<Document<'a>, 
         big_endian: walk.big_endian,
         header64: walk.header64,
         compressor: walk.compressor,
+        version: walk.version,
         appended,
         offsets,
         limit: bytes.len().saturating_mul(1100).saturating_add(1 << 20),
@@ -237,6 +241,7 @@ struct Walk<'a> {
     big_endian: bool,
     header64: bool,
     compressor: Compressor,
+    version: (u32, u32),
     appended_raw: bool,
     /// Whether the XML was complete: `</VTKFile>` seen, or the appended data reached.
     complete: bool,
@@ -256,6 +261,7 @@ impl<'a> Walk<'a> {
             big_endian: false,
             header64: false,
             compressor: Compressor::None,
+            version: (0, 0),
             appended_raw: true,
             complete: false,
         }
@@ -363,6 +369,7 @@ impl<'a> Walk<'a> {
         self.big_endian = byte_order(e).map_err(|m| self.err(pos, m))?;
         self.header64 = header_type(e).map_err(|m| self.err(pos, m))?;
         self.compressor = compressor(e).map_err(|m| self.err(pos, m))?;
+        self.version = file_version(e);
         Ok(())
     }
 
@@ -471,6 +478,17 @@ fn byte_order(e: &BytesStart) -> Result<bool, String> {
         Some(o) => Err(format!(
             "byte_order=\"{o}\": expected LittleEndian or BigEndian"
         )),
+    }
+}
+
+/// `version="major.minor"`; (0, 0) when absent or not two numbers (VTK reads such files as
+/// old ones too).
+fn file_version(e: &BytesStart) -> (u32, u32) {
+    let v = attr(e, b"version").unwrap_or_default();
+    let mut parts = v.trim().splitn(2, '.').map(|x| x.parse::<u32>().ok());
+    match (parts.next().flatten(), parts.next().flatten()) {
+        (Some(major), minor) => (major, minor.unwrap_or(0)),
+        _ => (0, 0),
     }
 }
 
