@@ -250,7 +250,9 @@ fn read_typed(
 fn type_name(t: &Datatype) -> String {
     match t {
         Datatype::String { .. } => "text".into(),
-        Datatype::FloatingPoint { size, .. } => format!("{}-bit floating point", size * 8),
+        Datatype::FloatingPoint { size, .. } => {
+            format!("{}-bit floating point", u64::from(*size).saturating_mul(8))
+        }
         Datatype::Compound { .. } => "a compound type".into(),
         other => format!("{other:?}")
             .split([' ', '{', '('])

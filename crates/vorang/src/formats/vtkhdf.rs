@@ -189,8 +189,21 @@ fn describe(h5: &H5, index: usize) -> Result<Vec<MeshDescription>, ParseError> {
     let point_offsets = array_offsets(h5, "PointData", "PointDataOffsets", index, start.point)?;
     let cell_offsets = array_offsets(h5, "CellData", "CellDataOffsets", index, start.cell)?;
     let (mut point, mut cell, mut conn) = (0u64, 0u64, start.connectivity);
-    let mut parts = Vec::with_capacity(start.parts);
-    for p in start.part..start.part.saturating_add(start.parts) {
+    let last = start.part.saturating_add(start.parts);
+    if last > n_points.len() || last > n_cells.len() || last > n_ids.len() {
+        return Err(located(
+            h5,
+            "dataset /VTKHDF/NumberOfPoints",
+            format!(
+                "step {index} has partitions {} … {}, the counts list {}",
+                start.part,
+                last.saturating_sub(1),
+                n_points.len().min(n_cells.len()).min(n_ids.len())
+            ),
+        ));
+    }
+    let mut parts = Vec::new();
+    for p in start.part..last {
         let np = count_of(&n_points, "NumberOfPoints", p)?;
         let nc = count_of(&n_cells, "NumberOfCells", p)?;
         let ni = count_of(&n_ids, "NumberOfConnectivityIds", p)?;

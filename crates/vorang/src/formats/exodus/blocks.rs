@@ -58,7 +58,18 @@ pub(super) fn read(
     } else {
         Vec::new()
     };
-    let mut blocks = Vec::with_capacity(count);
+    // Every block has its dimension num_el_in_blk{j}: a count beyond the file's dimensions is
+    // corrupt (and must not drive a loop of billions).
+    if count > exo.dimensions() {
+        return Err(exo.error(
+            "dimension num_el_blk",
+            format!(
+                "{count} blocks, but the file has {} dimensions",
+                exo.dimensions()
+            ),
+        ));
+    }
+    let mut blocks = Vec::new();
     let warn = |warnings: &mut Vec<Warning>, message: String| {
         warnings.push(Warning {
             file: exo.name.clone(),
@@ -110,7 +121,7 @@ pub(super) fn read(
             );
         }
         let conn = exo.read(&var, &[])?;
-        if per == 0 || conn.len() != elements * per {
+        if per == 0 || Some(conn.len()) != elements.checked_mul(per) {
             return Err(exo.error(
                 &format!("variable {var}"),
                 format!(
@@ -170,16 +181,18 @@ pub(super) fn element_arrays(
     } else {
         None
     };
+    // elem_var_tab[block, variable]: non-zero where the block has the variable.
+    let per_block = names.len();
     let mut out = Vec::new();
     for (i, name) in names.into_iter().enumerate() {
         let mut values = Vec::new();
         let mut float = true;
         for b in blocks.iter().filter(|b| b.kept) {
             let var = format!("vals_elem_var{}eb{}", i + 1, b.number);
-            let listed = table.as_ref().is_none_or(|t| {
-                (b.number - 1) * names_len(t, blocks) + i < t.len()
-                    && t.get((b.number - 1) * names_len(t, blocks) + i) != 0.0
-            });
+            let at = (b.number - 1) * per_block + i;
+            let listed = table
+                .as_ref()
+                .is_none_or(|t| at < t.len() && t.get(at) != 0.0);
             if listed && exo.has(&var) {
                 let v = exo.read(&var, &[step as u64])?;
                 if v.len() != b.elements {
@@ -212,11 +225,6 @@ pub(super) fn element_arrays(
         });
     }
     Ok(out)
-}
-
-/// The number of variables per row of `elem_var_tab` (`[num_el_blk, num_elem_var]`).
-fn names_len(table: &ArrayValues, blocks: &[Block]) -> usize {
-    table.len() / blocks.len().max(1)
 }
 
 #[cfg(test)]

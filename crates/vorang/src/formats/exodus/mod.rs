@@ -68,6 +68,11 @@ impl Exo {
         self.nc.dimension(name).map_or(0, |d| d.size as usize)
     }
 
+    /// How many dimensions the file declares.
+    pub(super) fn dimensions(&self) -> usize {
+        self.nc.dimensions().map_or(0, |d| d.len())
+    }
+
     /// A variable's shape.
     pub(super) fn shape(&self, var: &str) -> Result<Vec<u64>, ParseError> {
         self.nc
@@ -269,7 +274,14 @@ fn coordinates(exo: &Exo) -> Result<(Vec<[f64; 3]>, bool), ParseError> {
         let all = exo.read("coord", &[])?;
         let dims = exo.shape("coord")?;
         let per = dims.get(1).copied().unwrap_or(0) as usize;
-        for d in 0..dims.first().copied().unwrap_or(0).min(3) as usize {
+        let axes_in_file = dims.first().copied().unwrap_or(0) as usize;
+        if dims.len() != 2 || Some(all.len()) != axes_in_file.checked_mul(per) {
+            return Err(exo.error(
+                "variable coord",
+                format!("expected [num_dim, num_nodes] values, found shape {dims:?}"),
+            ));
+        }
+        for d in 0..axes_in_file.min(3) {
             let values: Vec<f64> = (0..per).map(|i| all.get(d * per + i)).collect();
             axes.push(ArrayValues::F64(values));
         }
@@ -289,6 +301,9 @@ fn finish_axes(
     axes: Vec<ArrayValues>,
     float: bool,
 ) -> Result<(Vec<[f64; 3]>, bool), ParseError> {
+    if axes.is_empty() {
+        return Err(exo.error("coordinates", "no axis"));
+    }
     if let Some(a) = axes.iter().find(|a| a.len() != n) {
         return Err(exo.error(
             "coordinates",

@@ -346,11 +346,44 @@ mod tests {
         assert_eq!(second.point_arrays[0].values.get(3), 8.0);
     }
 
+    /// A one-step file: one Uniform grid with the given Topology and Geometry.
+    fn uniform(topology: &str, geometry: &str) -> String {
+        format!("<Xdmf><Domain><Grid Name=\"g\">\n{topology}\n{geometry}\n</Grid></Domain></Xdmf>")
+    }
+
+    #[test]
+    fn geometries_xy_and_x_y_z_and_a_mixed_topology() {
+        let mixed = r#"<Topology TopologyType="Mixed"><DataItem Dimensions="13" NumberType="Int">2 2 0 1 6 0 1 2 3 4 0 1 2</DataItem></Topology>"#;
+        let split = r#"<Geometry GeometryType="X_Y_Z"><DataItem Dimensions="4">0 1 0 0</DataItem><DataItem Dimensions="4">0 0 1 0</DataItem><DataItem Dimensions="4">0 0 0 1</DataItem></Geometry>"#;
+        let d = read(uniform(mixed, split).as_bytes(), "m.xdmf").unwrap();
+        assert_eq!(d.nodes[3], [0.0, 0.0, 1.0]);
+        assert!(d.float_coordinates);
+        assert_eq!(d.cells.types, [3, 10, 5]);
+        assert_eq!(d.cells.nodes(1), [0, 1, 2, 3]);
+        let flat = r#"<Geometry GeometryType="XY"><DataItem Dimensions="4 2" Precision="8">0 0 1 0 0 1 1 1</DataItem></Geometry>"#;
+        let d = read(uniform(mixed, flat).as_bytes(), "m.xdmf").unwrap();
+        assert_eq!(d.nodes[3], [1.0, 1.0, 0.0]);
+        assert!(!d.float_coordinates);
+        let bad = mixed.replace("2 2 0 1 6", "2 2 0 1 99");
+        let e = read(uniform(&bad, split).as_bytes(), "m.xdmf").unwrap_err();
+        assert_eq!(e.line, 2, "{e}");
+        assert!(e.message.contains("unknown XDMF cell type 99"), "{e}");
+        let cut = mixed.replace("13", "11").replace(" 4 0 1 2<", " 4 0<");
+        let e = read(uniform(&cut, split).as_bytes(), "m.xdmf").unwrap_err();
+        assert!(e.message.contains("ends inside the cell"), "{e}");
+        let far = mixed.replace("6 0 1 2 3", "6 0 1 2 9");
+        let e = read(uniform(&far, split).as_bytes(), "m.xdmf").unwrap_err();
+        assert!(
+            e.message.contains("node 9 is not one of the 4 points"),
+            "{e}"
+        );
+    }
+
     #[test]
     fn wrong_counts_name_the_line() {
         let bad = TWO_STEPS.replace("1 2 3 4", "1 2 3");
         let e = read(bad.as_bytes(), "t.xdmf").unwrap_err();
-        assert_eq!(e.line, 25, "{e}");
+        assert_eq!(e.line, 24, "{e}");
         assert!(e.message.contains("4 values, found 3"), "{e}");
     }
 }

@@ -200,7 +200,7 @@ pub fn cells(items: &mut Items, t: &Node, points: usize) -> Result<Cells, ParseE
     {
         per = n;
     }
-    if per == 0 || ids.len() % per != 0 {
+    if per == 0 || !ids.len().is_multiple_of(per) {
         return Err(items.error(
             item.line,
             format!(
