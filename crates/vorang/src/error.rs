@@ -8,13 +8,15 @@
 use std::fmt;
 use std::path::Path;
 
-/// An error located at one line of one input file (1-based line numbers).
+/// An error located at one line of one input file (1-based line numbers). Line 0 stands for
+/// a file without lines (HDF5, netCDF): the message then names the place inside it (`dataset
+/// /VTKHDF/Points: …`) and the error reads `file: message`.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
-#[error("{file}:{line}: {message}")]
+#[error("{file}:{}{message}", if *line == 0 { " ".to_string() } else { format!("{line}: ") })]
 pub struct ParseError {
     /// The file name as the user gave it (or a label such as `<memory>`).
     pub file: String,
-    /// 1-based line number.
+    /// 1-based line number (0: none, see above).
     pub line: usize,
     /// What was expected and what was found.
     pub message: String,

@@ -124,11 +124,7 @@ pub fn describe_series(
         num(last)
     );
     for (i, step) in series.steps.iter().enumerate() {
-        let files: Vec<String> = step
-            .parts
-            .iter()
-            .map(|p| p.path.display().to_string())
-            .collect();
+        let files: Vec<String> = step.parts.iter().map(|p| p.label()).collect();
         let _ = writeln!(
             s,
             "  {i:>4}  t = {:<12} {}",

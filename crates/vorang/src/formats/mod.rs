@@ -18,13 +18,17 @@
 
 pub mod build;
 pub mod collection;
+pub mod exodus;
+pub mod hdf;
 pub mod hypermesh;
 pub mod lagrange;
 pub mod layout;
 pub mod msh;
 mod text;
 pub mod vtk_legacy;
+pub mod vtkhdf;
 pub mod vtu;
+pub mod xdmf;
 
 use std::path::Path;
 
@@ -330,6 +334,16 @@ pub struct MeshDescription {
     pub warnings: Vec<Warning>,
 }
 
+/// One time step of a file that holds several (Exodus II, XDMF, VTKHDF): its time, the file
+/// that holds it (an Exodus continuation file when the mesh changed), and its number inside
+/// that file. The time-series model ([`collection::Series`]) loads steps by these.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FileStep {
+    pub time: f64,
+    pub file: std::path::PathBuf,
+    pub index: usize,
+}
+
 /// A reader: a whole file's bytes and its name (for messages) to a description.
 pub type ReadFn = fn(&[u8], &str) -> Result<MeshDescription, ParseError>;
 
@@ -433,6 +447,9 @@ pub const FORMATS: &[Format] = &[
     collection::PVTU,
     collection::VTM,
     collection::SERIES,
+    collection::VTKHDF,
+    collection::EXODUS,
+    collection::XDMF,
     described_format!(
         "VTK XML UnstructuredGrid",
         &["vtu"],

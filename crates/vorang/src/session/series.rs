@@ -134,7 +134,7 @@ impl Session {
             return match index {
                 0 => Ok(Vec::new()),
                 _ => Err(format!(
-                    "timestep: step {index} is out of range: the volume is one step (0 … 0); load a collection (.pvd, .pvtu, .vtm, .series) for more"
+                    "timestep: step {index} is out of range: the volume is one step (0 … 0); load a collection (.pvd, .series) or a file with time steps (Exodus II, XDMF, VTKHDF) for more"
                 )),
             };
         };

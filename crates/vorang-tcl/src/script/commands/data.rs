@@ -7,7 +7,7 @@ use vorang::hypermesh::{Encoding, Layout, WriteOptions};
 pub const VOLUME: CommandInfo = CommandInfo {
     name: "volume",
     usage: "file",
-    summary: "load a grid with its data (HyperMesh, VTK .vtu/.vtk, Gmsh .msh, or a collection: .pvd, .pvtu, .vtm, .series); mappings, transforms and camera return to their defaults",
+    summary: "load a grid with its data (HyperMesh, VTK .vtu/.vtk, Gmsh .msh, Exodus II .e/.exo, XDMF .xdmf, VTKHDF .vtkhdf, or a collection: .pvd, .pvtu, .vtm, .series); mappings, transforms and camera return to their defaults",
     details: "If the file cannot be read, the previous volume stays loaded. A collection loads its time step 0 (pieces and blocks merged) and says how many steps it has and their time range; 'timestep' shows the others.",
     run: |s: &mut Context, c: &Call| {
         c.expect(1..=1)?;

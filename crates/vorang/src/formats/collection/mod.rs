@@ -18,6 +18,7 @@
 //! `Volume.read` take a collection too.
 
 mod merge;
+pub mod multi;
 pub mod pvd;
 pub mod pvtu;
 pub mod series_json;
@@ -28,6 +29,7 @@ mod xml;
 use std::path::Path;
 
 pub use merge::{GHOST_ARRAY, Merge, PieceLabel};
+pub use multi::{EXODUS, Multi, VTKHDF, XDMF};
 pub use step::StepVolume;
 pub(crate) use xml::vtk_type;
 
@@ -47,13 +49,15 @@ pub struct Entry {
     pub line: usize,
 }
 
-/// The four collection formats.
+/// The four collection formats, and the formats whose files hold time steps themselves.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Kind {
     Pvd,
     Pvtu,
     Vtm,
     SeriesJson,
+    /// Exodus II, XDMF, VTKHDF ([`multi`]).
+    Steps(Multi),
 }
 
 impl Kind {
@@ -68,6 +72,7 @@ impl Kind {
         .into_iter()
         .find(|(name, _)| *name == format.name)
         .map(|(_, k)| k)
+        .or_else(|| Multi::of_format(format).map(Kind::Steps))
     }
 
     /// What a file of this kind is called in messages.
@@ -77,6 +82,7 @@ impl Kind {
             Kind::Pvtu => ".pvtu grid",
             Kind::Vtm => ".vtm multi-block data set",
             Kind::SeriesJson => ".series file series",
+            Kind::Steps(m) => m.noun(),
         }
     }
 }
@@ -89,6 +95,19 @@ pub struct Part {
     /// The line of the collection that lists it (1 for a `.pvtu` or `.vtm`, which is itself
     /// the step's only part).
     pub line: usize,
+    /// The step's number inside the file, for files that hold steps themselves (Exodus II,
+    /// XDMF, VTKHDF); `None`: the whole file is the part.
+    pub within: Option<usize>,
+}
+
+impl Part {
+    /// The file, and the step inside it where it has several, for `vorang info`.
+    pub fn label(&self) -> String {
+        match self.within {
+            Some(k) => format!("{} [step {k}]", self.path.display()),
+            None => self.path.display().to_string(),
+        }
+    }
 }
 
 /// A time step: its time and its files.
@@ -111,11 +130,14 @@ impl Series {
     /// Reads the collection file at `path` (its files are not read yet; a file a time series
     /// names that does not exist is an error at its line).
     pub fn read(path: &Path) -> Result<Series, Error> {
+        if let Some(Kind::Steps(multi)) = Kind::of_format(super::format_of_file(path)?) {
+            return Ok(Series::of_steps(path, multi)?);
+        }
         let bytes = read_bytes_of(path)?;
         let format = format_to_read(&bytes, path)?;
         let kind = Kind::of_format(format).ok_or_else(|| {
             Error::Invalid(format!(
-                "{}: this is a {} file, not a collection (.pvd, .pvtu, .vtm, .series)",
+                "{}: this is a {} file, not a collection or time series (.pvd, .pvtu, .vtm, .series, Exodus II, XDMF, VTKHDF)",
                 path.display(),
                 format.name
             ))
@@ -123,6 +145,16 @@ impl Series {
         let series = Series::parse(&bytes, path, kind)?;
         series.check_files()?;
         Ok(series)
+    }
+
+    /// The series of a file that holds time steps itself, read from disk (its readers open
+    /// it themselves: an HDF5 file is memory-mapped, not read whole).
+    fn of_steps(path: &Path, multi: Multi) -> Result<Series, ParseError> {
+        Ok(Series {
+            source: path.display().to_string(),
+            kind: Kind::Steps(multi),
+            steps: multi.steps(path)?,
+        })
     }
 
     /// The collection of `kind` in `bytes`, its files relative to `path`'s folder.
@@ -133,6 +165,7 @@ impl Series {
             parts: vec![Part {
                 path: path.to_path_buf(),
                 line,
+                within: None,
             }],
         };
         let steps = match kind {
@@ -147,6 +180,7 @@ impl Series {
                 vtm::leaves(bytes, &source)?;
                 vec![whole(1)]
             }
+            Kind::Steps(multi) => multi.steps(path)?,
         };
         Ok(Series {
             source,
@@ -157,7 +191,7 @@ impl Series {
 
     /// Every file a time series names exists (a missing one is named at its line).
     fn check_files(&self) -> Result<(), ParseError> {
-        if matches!(self.kind, Kind::Pvtu | Kind::Vtm) {
+        if matches!(self.kind, Kind::Pvtu | Kind::Vtm | Kind::Steps(_)) {
             return Ok(());
         }
         for part in self.steps.iter().flat_map(|s| &s.parts) {
@@ -227,6 +261,7 @@ fn steps_of(mut entries: Vec<Entry>, path: &Path, merge_equal: bool) -> Vec<Step
         let part = Part {
             path: step::resolve(path, &e.file),
             line: e.line,
+            within: None,
         };
         match steps.last_mut() {
             Some(last) if merge_equal && last.time == e.time => last.parts.push(part),

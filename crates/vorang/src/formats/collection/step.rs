@@ -109,6 +109,10 @@ impl Series {
                 from: self.source.clone(),
                 line: part.line,
             };
+            if let (Some(k), Kind::Steps(multi)) = (part.within, self.kind) {
+                merge.add(multi.read_step(&part.path, k)?, label)?;
+                continue;
+            }
             let lone_part = step.parts.len() == 1;
             if let Some(input) =
                 read_part(&part.path, &label, &mut merge, &mut warnings, lone_part, 0)?
@@ -249,7 +253,8 @@ fn read_part(
             label.file,
             kind.noun()
         ))),
-        None => match format.read {
+        // A file that holds steps itself, listed as one part: its step 0.
+        Some(Kind::Steps(_)) | None => match format.read {
             Some(read) => {
                 let desc = read(&bytes, &label.file)?;
                 drop(bytes);
