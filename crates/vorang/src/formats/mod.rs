@@ -12,9 +12,15 @@
 //! Format detection looks at the content first (`<VTKFile` for VTK XML — its `type` tells a
 //! collection (`Collection`, `PUnstructuredGrid`, `vtkMultiBlockDataSet`) from a `.vtu` —,
 //! `"file-series-version"` for ParaView's `.series`, `# vtk DataFile` for legacy VTK,
-//! `$MeshFormat` for Gmsh, `# HyperMesh` for HyperMesh); the extension only decides
-//! when the content is not recognised, so a mis-named file still loads and a file whose
-//! content no reader recognises gets a clear error naming the formats tried.
+//! `$MeshFormat` for Gmsh, `# HyperMesh` for HyperMesh, `<Xdmf` for XDMF, netCDF's `CDF\x01` and
+//! `CDF\x02` or HDF5 with Exodus's global attributes for Exodus II, HDF5 naming `VTKHDF` for
+//! VTKHDF); the extension only decides when the content is not recognised (an HDF5 file whose
+//! first 4 KiB do not say what it holds, usually), so a mis-named file still loads and a file
+//! whose content no reader recognises gets a clear error naming the formats tried.
+//!
+//! Exodus II, XDMF and VTKHDF files hold time steps themselves: their readers list a file's
+//! steps and read one ([`FileStep`]), and [`collection::multi`] makes them a series, as the
+//! collections are.
 
 pub mod build;
 pub mod collection;
@@ -584,7 +590,8 @@ pub fn format_of_file(path: &Path) -> Result<&'static Format, Error> {
 
 impl Volume {
     /// Reads a mesh file of any supported format (HyperMesh, `.vtu`, `.vtk`, `.msh`, and of a
-    /// collection — `.pvd`, `.pvtu`, `.vtm`, `.series` — its step 0; see [`crate::formats`]).
+    /// collection — `.pvd`, `.pvtu`, `.vtm`, `.series` — or an Exodus II, XDMF or VTKHDF file
+    /// its step 0; see [`crate::formats`]).
     /// Warnings (e.g. re-oriented cells) are returned, not printed.
     pub fn load(path: &Path) -> Result<(Volume, Vec<Warning>), Error> {
         load_volume(path)
