@@ -1,4 +1,5 @@
-//! `vorang.Series`: a collection or time series (`.pvd`, `.pvtu`, `.vtm`, `.series`) as the
+//! `vorang.Series`: a collection or time series (`.pvd`, `.pvtu`, `.vtm`, `.series`, or an
+//! Exodus II, XDMF or VTKHDF file with its time steps) as the
 //! core reads it ([`vorang::formats::collection::Series`]): its times, its steps as `Volume`s
 //! loaded when asked for (each on the mesh of the step loaded before it when the points and
 //! cells are the same), and each field's range over all steps, so that an animation's colours
@@ -94,8 +95,9 @@ impl PySeries {
 
 #[pymethods]
 impl PySeries {
-    /// Series.read(path): a `.pvd` or `.series` time series, or a `.pvtu` / `.vtm` (one step
-    /// of merged pieces or blocks). The file names inside are relative to the collection; a
+    /// Series.read(path): a `.pvd` or `.series` time series, an Exodus II (`.e`, `.exo`), XDMF
+    /// (`.xdmf`) or VTKHDF (`.vtkhdf`) file with its time steps, or a `.pvtu` / `.vtm` (one
+    /// step of merged pieces or blocks). The file names inside are relative to the collection; a
     /// missing one is an OSError naming the collection's line. Steps are loaded when indexed.
     #[staticmethod]
     fn read(py: Python<'_>, path: PathBuf) -> PyResult<Self> {

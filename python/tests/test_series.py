@@ -68,6 +68,20 @@ def test_series_reads_times_and_steps_lazily():
     assert one.times == [0.0] and one[0].n_points == 64
 
 
+def test_files_with_their_own_steps_are_series(tmp_path):
+    """Exodus II, XDMF and VTKHDF files (tests/data/multistep) read as a Series: their
+    times, their steps as Volumes, and a step renders what the CLI renders."""
+    multi = ROOT / "tests" / "data" / "multistep"
+    for name in ("flow.exo", "flow_classic.e", "dolfinx.xdmf", "flow.vtkhdf"):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # Exodus: the shell block is skipped
+            s = vorang.Series.read(str(multi / name))
+            assert s.times == [0.0, 0.5, 1.25], name
+            assert s[2].n_tets == 162 and s[2].field_names[0] == "T", name
+            ref = cli_steps(tmp_path, multi / name, [2])[0]
+            assert np.array_equal(vorang.render(s, step=2, **SCENE)[:, :, :3], ref), name
+
+
 def test_range_spans_all_steps():
     s = vorang.Series.read(str(SERIES / "flow.pvd"))
     lo = min(s[k].field_range("T")[0] for k in range(3))

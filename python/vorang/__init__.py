@@ -9,8 +9,8 @@
 `render` returns a float32 array of shape (h, w, 4), first row at the top; its RGB values are
 exactly those the PFM output of the equivalent script holds.
 
-A time series (ParaView's .pvd, .series, or a .pvtu / .vtm) is a `Series`; `animate` renders
-every step into a movie with one scene:
+A time series (ParaView's .pvd, .series, an Exodus II, XDMF or VTKHDF file, or a .pvtu / .vtm)
+is a `Series`; `animate` renders every step into a movie with one scene:
 
     flow = vorang.Series.read("flow.pvd")
     vorang.animate(flow, "flow.gif", label="t = %.3g s", rotate=[(0, 1, 0, 30)])

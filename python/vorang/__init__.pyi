@@ -38,7 +38,7 @@ class Volume:
     def field_range(self, field: Union[int, str]) -> Tuple[float, float]: ...
 
 class Series:
-    """A collection or time series (.pvd, .series, .pvtu, .vtm): its steps as Volumes."""
+    """A collection or time series (.pvd, .series, .pvtu, .vtm, Exodus II, XDMF, VTKHDF): its steps as Volumes."""
 
     @staticmethod
     def read(path: _Path) -> "Series": ...
