@@ -46,6 +46,7 @@
 pub mod accuracy;
 pub mod atomic;
 pub mod data;
+pub mod distributed;
 pub mod error;
 pub mod field;
 pub mod formats;

@@ -440,6 +440,17 @@ pub fn subset(vol: &Volume, field: usize) -> Result<Volume, Error> {
             "save_subset: field {field} is zero on every cell; the subset would be empty"
         )));
     }
+    select(vol, cells, None).map_err(|e| Error::Invalid(format!("save_subset: {e}")))
+}
+
+/// An order of a volume's nodes (by their numbers), for [`select`].
+pub type NodeOrder<'a> = &'a dyn Fn(u32, u32) -> std::cmp::Ordering;
+
+/// The cells `cells` of `vol` (in that order), with the nodes, edges, triangles and data they
+/// use. The nodes keep their original order, or are numbered in `order` (a rank's piece of a
+/// distributed frame numbers them by a key all ranks share, so that a face between two pieces
+/// gives both the same depths, docs/distributed.md); edges and triangles keep theirs.
+pub fn select(vol: &Volume, cells: Vec<u32>, order: Option<NodeOrder>) -> Result<Volume, Error> {
     let tets = vol.mesh.tets();
     // Old → new numbering of the nodes, edges and triangles the kept cells use.
     let renumber = |used: Vec<bool>| -> (Vec<u32>, Vec<u32>) {
@@ -459,7 +470,13 @@ pub fn subset(vol: &Volume, field: usize) -> Result<Volume, Error> {
             used_nodes[n as usize] = true;
         }
     }
-    let (node_map, kept_nodes) = renumber(used_nodes);
+    let (mut node_map, mut kept_nodes) = renumber(used_nodes);
+    if let Some(order) = order {
+        kept_nodes.sort_by(|&a, &b| order(a, b));
+        for (i, &n) in kept_nodes.iter().enumerate() {
+            node_map[n as usize] = i as u32;
+        }
+    }
     let nodes: Vec<[f64; 3]> = kept_nodes
         .iter()
         .map(|&n| vol.mesh.nodes()[n as usize])
@@ -536,8 +553,7 @@ pub fn subset(vol: &Volume, field: usize) -> Result<Volume, Error> {
             ElementKind::Extra => data.counts[kind.index()],
         };
     }
-    let mesh =
-        TetMesh::new(nodes, new_tets).map_err(|e| Error::Invalid(format!("save_subset: {e}")))?;
+    let mesh = TetMesh::new(nodes, new_tets).map_err(|e| Error::Invalid(e.to_string()))?;
     let tet_edges = edges.as_ref().map(|list| {
         // A subset of a valid edge list has no repeated pairs.
         let index = edge_index(list).unwrap_or_default();

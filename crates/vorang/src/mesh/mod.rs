@@ -246,6 +246,13 @@ impl TetMesh {
         self.bbox
     }
 
+    /// Gives the mesh another bounding box: a piece of a larger mesh (one rank's cells of a
+    /// distributed frame) is centred, framed and lit as the whole it belongs to, so it carries
+    /// the whole's box (docs/distributed.md).
+    pub fn set_bbox(&mut self, bbox: Aabb) {
+        self.bbox = bbox;
+    }
+
     /// How many cells were negatively oriented in the input and have been re-oriented.
     pub fn reoriented(&self) -> usize {
         self.reoriented

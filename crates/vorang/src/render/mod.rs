@@ -30,6 +30,8 @@
 //! imports it back, and none imports from this one (it only declares the files and re-exports
 //! what callers use):
 //!
+//! - [`deep`]: a rank's part of a distributed frame — the same steps, each pixel's runs kept
+//!   instead of composited — and the one function that settles a pixel from every rank's runs.
 //! - `schedule`: one frame — steps 1–4 above, the tiles in parallel, the statistics.
 //! - `settings`: what a render is asked for (size, method, order, lines, background, tiles).
 //! - `tile`: one tile's cells (step 4), each by whichever way of drawing it suits.
@@ -47,6 +49,7 @@
 pub mod approx;
 pub mod cell;
 mod composite;
+pub mod deep;
 pub mod faces;
 pub mod footprint;
 pub mod frame;

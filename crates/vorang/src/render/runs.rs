@@ -200,13 +200,12 @@ impl Runs {
             at = next;
         }
         self.sorted
-            .sort_by(|a, b| a.near.total_cmp(&b.near).then(a.far.total_cmp(&b.far)));
+            .sort_by(|a, b| by_depth((a.near, a.far), (b.near, b.far)));
         // Disjoint stretches of mesh never overlap along a ray; cells that do interpenetrate.
         let mut overlapped = false;
         for w in self.sorted.windows(2) {
             let (a, b) = (&w[0], &w[1]);
-            let tol = OVERLAP * ((a.far - a.near) + (b.far - b.near) + a.far.abs());
-            if b.near < a.far - tol {
+            if overlap((a.near, a.far), (b.near, b.far)) {
                 overlapped = true;
                 if self.overlap_cells.len() < EXAMPLES {
                     self.overlap_cells
@@ -215,12 +214,70 @@ impl Runs {
             }
         }
         self.overlaps += usize::from(overlapped);
-        let mut acc = (i0, 1.0);
-        for r in self.sorted.iter().rev() {
-            acc = compose((r.b, r.theta), acc);
-        }
-        acc
+        back_to_front(self.sorted.iter().map(|r| (r.b, r.theta)), i0)
     }
+
+    /// The pixel's runs as [`Stretch`]es, appended to `out` in no particular order; runs that
+    /// change no light (clipped away: `b = 0`, `θ = 1`) are left out. Returns how many.
+    pub fn export(&self, slot: usize, out: &mut Vec<Stretch>) -> usize {
+        let start = out.len();
+        let mut at = self.heads[slot];
+        while at != NONE {
+            let (r, next) = self.arena[at as usize];
+            let identity = r.theta == 1.0 && r.b.iter().all(|v| v.to_bits() == 0);
+            if !identity {
+                out.push(Stretch {
+                    near: r.near,
+                    far: r.far,
+                    b: r.b,
+                    theta: r.theta,
+                });
+            }
+            at = next;
+        }
+        out.len() - start
+    }
+}
+
+/// One run as it leaves the tile (a distributed frame's unit of exchange,
+/// docs/distributed.md): the depth interval of the ray inside one stretch of cells, and the
+/// composed map `I ↦ I·θ + b` of that stretch.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Stretch {
+    pub near: f64,
+    pub far: f64,
+    pub b: [f64; 3],
+    pub theta: f64,
+}
+
+/// The order runs are composited in: by near depth, then far depth (a stable sort keeps the
+/// arrival order of equal ones).
+#[inline]
+pub fn by_depth(a: (f64, f64), b: (f64, f64)) -> std::cmp::Ordering {
+    a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1))
+}
+
+/// Whether run `b` (sorted after `a`) starts before `a` ends by more than rounding: the cells
+/// of the two interpenetrate.
+#[inline]
+pub fn overlap(a: (f64, f64), b: (f64, f64)) -> bool {
+    let tol = OVERLAP * ((a.1 - a.0) + (b.1 - b.0) + a.1.abs());
+    b.0 < a.1 - tol
+}
+
+/// Depth-sorted runs `(b, θ)` (front first) composited back to front over `i0`: the pixel's
+/// intensity and the volume's transparency. The one formula for a pixel's runs, whether they
+/// come from one tile or from several ranks.
+#[inline]
+pub fn back_to_front(
+    sorted: impl DoubleEndedIterator<Item = ([f64; 3], f64)>,
+    i0: [f64; 3],
+) -> ([f64; 3], f64) {
+    let mut acc = (i0, 1.0);
+    for r in sorted.rev() {
+        acc = compose(r, acc);
+    }
+    acc
 }
 
 /// Puts a fragment in front of a run.

@@ -77,6 +77,9 @@ pub struct Timing {
     pub bin: Duration,
     /// Scan conversion, integration and compositing of all tiles.
     pub draw: Duration,
+    /// A distributed frame: exchanging the runs, settling the pixels and gathering the image
+    /// (zero in one process).
+    pub composite: Duration,
 }
 
 /// Renders one image. `progress(done, total)` is called as tiles finish.
@@ -155,11 +158,20 @@ pub fn render_watched(
     let setup = started.elapsed();
 
     let sorting = Instant::now();
-    let sorted = sort_cells(vol, &placed, settings.order);
+    let sorted = sort_cells(vol, &placed, settings.order, false);
     let sort_time = sorting.elapsed();
 
     let binning = Instant::now();
-    let frame = build_frame(vol, mapping, settings, placed, mapped, sorted.rank)?;
+    let line_depth = line_depth(vol, settings, &placed)?;
+    let frame = build_frame(
+        vol,
+        mapping,
+        settings,
+        placed,
+        mapped,
+        sorted.rank,
+        line_depth,
+    )?;
     let bins = bin_cells(&frame, sorted.cells, settings.tile);
     let bin_time = binning.elapsed();
 
@@ -195,6 +207,7 @@ pub fn render_watched(
                 sort: sort_time,
                 bin: bin_time,
                 draw: draw_time,
+                composite: Duration::ZERO,
             },
         },
     ))
@@ -245,7 +258,7 @@ pub(crate) fn place_nodes(vol: &Volume, view: &View, settings: &Settings) -> Res
 
 /// `LIT_EMITTER`: the mapping with this frame's lights (the default light follows the camera,
 /// so it is set per frame); `None` where the mapping is not lit or there is no light.
-fn lit_mapping(
+pub(super) fn lit_mapping(
     mapping: &Mapping,
     view: &View,
     settings: &Settings,
@@ -259,7 +272,7 @@ fn lit_mapping(
 
 /// The mapping in the forms the fast paths read, prepared once per frame ([`Frame::transfer`],
 /// [`Frame::category_transfers`], [`Frame::node_mapped`]).
-struct Mapped {
+pub(super) struct Mapped {
     transfer: Option<Transfer1D>,
     category_transfers: Option<CategoryTransfers>,
     node_mapped: Option<Vec<([f64; 3], f64)>>,
@@ -268,7 +281,7 @@ struct Mapped {
 /// The mapping as one merged transfer function where it has that form, else per category of
 /// cells; and mapped at every node for the methods that map at the nodes
 /// (`interpolateColor`, `interpolateCoeff`), once per frame instead of once per cell and node.
-fn map_once(vol: &Volume, mapping: &Mapping, method: &Method) -> Mapped {
+pub(super) fn map_once(vol: &Volume, mapping: &Mapping, method: &Method) -> Mapped {
     let transfer = mapping.transfer(vol);
     let category_transfers = match transfer {
         None => mapping.category_transfers(vol),
@@ -288,21 +301,22 @@ fn map_once(vol: &Volume, mapping: &Mapping, method: &Method) -> Mapped {
 }
 
 /// The cells in compositing order, and what the sort found.
-struct Sorted {
-    cells: Vec<u32>,
+pub(super) struct Sorted {
+    pub(super) cells: Vec<u32>,
     /// Each cell's place in `cells`, for the per-pixel runs (empty in the sort's order).
-    rank: Vec<u32>,
-    sort: &'static str,
-    convex: bool,
-    cycle_cells: usize,
+    pub(super) rank: Vec<u32>,
+    pub(super) sort: &'static str,
+    pub(super) convex: bool,
+    pub(super) cycle_cells: usize,
     /// The order is settled per pixel ([`super::runs`]).
-    per_pixel: bool,
+    pub(super) per_pixel: bool,
 }
 
 /// Step 2: the visibility order ([`crate::sort`]), back to front or reversed. MPVO's order is
-/// exact for a convex mesh without cycles; anything else is settled per pixel, for which each
-/// cell's place in the order is kept.
-fn sort_cells(vol: &Volume, placed: &Placed, order: Order) -> Sorted {
+/// exact for a convex mesh without cycles; anything else — and every frame that keeps its runs
+/// (`runs`: a rank's part of a distributed frame) — is settled per pixel, for which each cell's
+/// place in the order is kept.
+pub(super) fn sort_cells(vol: &Volume, placed: &Placed, order: Order, runs: bool) -> Sorted {
     let mesh = &vol.mesh;
     let convex = mesh.is_convex();
     let sorter = sort::choose(convex);
@@ -314,7 +328,7 @@ fn sort_cells(vol: &Volume, placed: &Placed, order: Order) -> Sorted {
         mirrored: placed.mirrored,
     };
     let sorted = (sorter.sort)(&input);
-    let per_pixel = !convex || sorted.cycle_cells > 0;
+    let per_pixel = runs || !convex || sorted.cycle_cells > 0;
     let mut cells = sorted.back_to_front;
     if order == Order::FrontToBack {
         cells.reverse();
@@ -336,34 +350,43 @@ fn sort_cells(vol: &Volume, placed: &Placed, order: Order) -> Sorted {
     }
 }
 
+/// The depth of the nearest grid line per pixel (`None`: no line is drawn).
+pub(super) fn line_depth(
+    vol: &Volume,
+    settings: &Settings,
+    placed: &Placed,
+) -> Result<Option<Vec<f64>>, Error> {
+    let edges = lines::edges(vol, &settings.lines)?;
+    if edges.is_empty() {
+        return Ok(None);
+    }
+    let (width, height) = (settings.width, settings.height);
+    let depths = lines::depth_buffer(&edges, &placed.eye_nodes, &placed.projector, width, height)?;
+    Ok(Some(depths))
+}
+
+/// The background intensity I0 the settings ask for.
+pub(super) fn backdrop(settings: &Settings) -> Result<Backdrop, Error> {
+    Ok(match &settings.background {
+        Background::Color(c) => Backdrop::Uniform(*c),
+        Background::None => Backdrop::Uniform([0.0; 3]),
+        other => Backdrop::Image(other.pixels(settings.width, settings.height)?),
+    })
+}
+
 /// What every tile shares: the placed nodes and the prepared mapping, with the grid lines'
 /// depth per pixel and the background, which the tiles read pixel by pixel.
-fn build_frame<'a>(
+pub(super) fn build_frame<'a>(
     vol: &'a Volume,
     mapping: &'a Mapping,
     settings: &Settings,
     placed: Placed,
     mapped: Mapped,
     rank: Vec<u32>,
+    line_depth: Option<Vec<f64>>,
 ) -> Result<Frame<'a>, Error> {
     let (width, height) = (settings.width, settings.height);
-    let edges = lines::edges(vol, &settings.lines)?;
-    let line_depth = if edges.is_empty() {
-        None
-    } else {
-        Some(lines::depth_buffer(
-            &edges,
-            &placed.eye_nodes,
-            &placed.projector,
-            width,
-            height,
-        )?)
-    };
-    let background = match &settings.background {
-        Background::Color(c) => Backdrop::Uniform(*c),
-        Background::None => Backdrop::Uniform([0.0; 3]),
-        other => Backdrop::Image(other.pixels(width, height)?),
-    };
+    let background = backdrop(settings)?;
     Ok(Frame {
         vol,
         mapping,
@@ -384,20 +407,20 @@ fn build_frame<'a>(
 }
 
 /// The screen tiles and the cells each one draws, in compositing order.
-struct Bins {
+pub(super) struct Bins {
     /// Tile → its cells (tiles row by row, `tx` per row).
-    lists: Vec<Vec<u32>>,
+    pub(super) lists: Vec<Vec<u32>>,
     /// The tiles' edge length and how many there are across and down.
-    tile: usize,
-    tx: usize,
-    ty: usize,
+    pub(super) tile: usize,
+    pub(super) tx: usize,
+    pub(super) ty: usize,
     /// Cells whose footprint's bounding box reaches the screen.
-    drawn: usize,
+    pub(super) drawn: usize,
 }
 
 impl Bins {
     /// Tile `t`'s pixels (the last row and column of tiles may be cut off by the image).
-    fn rect(&self, t: usize, width: usize, height: usize) -> Rect {
+    pub(super) fn rect(&self, t: usize, width: usize, height: usize) -> Rect {
         let (tile, tx) = (self.tile, self.tx);
         Rect {
             x0: (t % tx) * tile,
@@ -412,7 +435,7 @@ impl Bins {
 /// (`tile`: the edge length, or [`TILE`] to choose per frame, [`auto_tile`]). In parallel: each
 /// chunk of the order lists its cells per tile, then each tile joins its chunks' lists in chunk
 /// order — the same order as one pass over all cells, whatever the number of threads.
-fn bin_cells(frame: &Frame, cells: Vec<u32>, tile: usize) -> Bins {
+pub(super) fn bin_cells(frame: &Frame, cells: Vec<u32>, tile: usize) -> Bins {
     let (width, height) = (frame.width, frame.height);
     let tile = match tile {
         TILE => auto_tile(width, height, rayon::current_num_threads()),
@@ -557,7 +580,7 @@ fn draw_tile(
 
 /// Pixels with a NaN or infinite channel (0 unless something overflowed: reported, not
 /// hidden), and the first of them.
-fn non_finite_pixels(fb: &Framebuffer) -> (usize, Option<(usize, usize)>) {
+pub(super) fn non_finite_pixels(fb: &Framebuffer) -> (usize, Option<(usize, usize)>) {
     let mut non_finite = 0;
     let mut first_non_finite = None;
     for (i, p) in fb.pixels.iter().enumerate() {

@@ -194,12 +194,7 @@ impl<'a> Tile<'a> {
                     }
                 };
                 k += 1;
-                let alpha = if self.f.line_at(x, y).is_finite() {
-                    1.0
-                } else {
-                    1.0 - t
-                };
-                out.push([to_f32(rgb[0]), to_f32(rgb[1]), to_f32(rgb[2]), alpha as f32]);
+                out.push(pixel_out(rgb, t, self.f.line_at(x, y).is_finite()));
             }
         }
         let overlaps = match pixels {
@@ -208,6 +203,14 @@ impl<'a> Tile<'a> {
         };
         (out, most, overlaps)
     }
+}
+
+/// A pixel as the framebuffer keeps it: its colour, and alpha `1 − T` (1 on a grid line), in
+/// `f32`.
+#[inline]
+pub(super) fn pixel_out(rgb: [f64; 3], t: f64, on_line: bool) -> [f32; 4] {
+    let alpha = if on_line { 1.0 } else { 1.0 - t };
+    [to_f32(rgb[0]), to_f32(rgb[1]), to_f32(rgb[2]), alpha as f32]
 }
 
 /// A channel for the `f32` framebuffer: a finite value beyond the float range saturates; NaN
@@ -233,6 +236,42 @@ pub(super) fn render_tile<A: Approx>(
     list: &[u32],
 ) -> (Vec<[f32; 4]>, [u64; 2], usize, Overlaps) {
     let tile = Tile::new(f, order, per_pixel, A::SPAN, rect);
+    let canvas = draw_cells(&tile, method, list);
+    let (out, most, overlaps) = tile.finish(canvas.pixels);
+    (
+        out,
+        [canvas.fragments, canvas.lane_fragments],
+        most,
+        overlaps,
+    )
+}
+
+/// One tile's pixels as runs, not composited: per pixel (row by row) how many, and the runs
+/// themselves ([`runs::Runs::export`]) — what a rank of a distributed frame sends to the
+/// pixel's owner. Also the pixel–cell pairs integrated (all, and in the span kernels).
+pub(super) fn render_tile_runs<A: Approx>(
+    f: &Frame,
+    method: &A,
+    order: Order,
+    rect: Rect,
+    list: &[u32],
+) -> (Vec<u32>, Vec<runs::Stretch>, [u64; 2]) {
+    let tile = Tile::new(f, order, true, A::SPAN, rect);
+    let canvas = draw_cells(&tile, method, list);
+    let mut counts = Vec::with_capacity(tile.len());
+    let mut stretches = Vec::new();
+    if let Pixels::Runs(runs) = &canvas.pixels {
+        for slot in 0..tile.len() {
+            counts.push(runs.export(slot, &mut stretches) as u32);
+        }
+    }
+    (counts, stretches, [canvas.fragments, canvas.lane_fragments])
+}
+
+/// Draws the cells `list` (in compositing order) onto a fresh canvas of the tile.
+#[inline]
+fn draw_cells<A: Approx>(tile: &Tile, method: &A, list: &[u32]) -> Canvas {
+    let f = tile.f;
     let mut canvas = Canvas {
         pixels: tile.start(),
         fragments: 0,
@@ -253,7 +292,7 @@ pub(super) fn render_tile<A: Approx>(
     for (i, &cell) in list.iter().enumerate() {
         prefetch_ahead(f, field, list, i);
         draw_cell(
-            &tile,
+            tile,
             method,
             &mut canvas,
             &mut reused,
@@ -261,13 +300,7 @@ pub(super) fn render_tile<A: Approx>(
             cell as usize,
         );
     }
-    let (out, most, overlaps) = tile.finish(canvas.pixels);
-    (
-        out,
-        [canvas.fragments, canvas.lane_fragments],
-        most,
-        overlaps,
-    )
+    canvas
 }
 
 /// The cells come in visibility order, scattered over the mesh: asks for the data of the cells
