@@ -13,6 +13,8 @@ use vorang::session::Notice;
 use vorang::{Error, Volume, info};
 use vorang_tcl::script::{Runner, ScriptError, Terminal};
 
+mod ranks;
+
 /// Direct volume rendering of fields on tetrahedral meshes.
 ///
 /// `vorang SCRIPT…` runs scripts; `vorang` alone is an interactive prompt (or reads a script from
@@ -28,6 +30,10 @@ struct Cli {
     eval: Vec<String>,
     /// Scripts to run, in order, in one session.
     scripts: Vec<PathBuf>,
+    /// Render every frame as N ranks, threads of this process, each holding its own share of
+    /// the volume: the image `mpirun -np N vorang` gives (docs/distributed.md).
+    #[arg(long, value_name = "N")]
+    virtual_ranks: Option<usize>,
 }
 
 #[derive(Subcommand)]
@@ -498,8 +504,24 @@ fn main() -> ExitCode {
             }
         };
     }
-    let mut runner = Runner::new(Box::new(Terminal));
+    let launch = match ranks::Launch::start(cli.virtual_ranks) {
+        Ok(launch) => launch,
+        Err(e) => {
+            eprintln!("vorang: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let mut runner = Runner::new(launch.reporter());
+    runner.context().session.set_ranks(launch.ranks());
+    let root = launch.is_root();
     if cli.eval.is_empty() && cli.scripts.is_empty() {
+        if launch.is_rank() {
+            // The launcher gives standard input to one rank only.
+            eprintln!(
+                "vorang: a rank of an MPI session runs script files or -e: give the script as a file"
+            );
+            return ExitCode::FAILURE;
+        }
         if std::io::stdin().is_terminal() {
             return prompt(&mut runner);
         }
@@ -508,31 +530,23 @@ fn main() -> ExitCode {
             eprintln!("vorang: cannot read standard input: {e}");
             return ExitCode::FAILURE;
         }
-        return match runner.run_string(&script, "<stdin>") {
-            Ok(result) => {
+        let result = runner
+            .run_string(&script, "<stdin>")
+            .map(|result| print_help_result(&runner, &result));
+        return launch.finish(result, report);
+    }
+    let mut run = || -> Result<(), ScriptError> {
+        for script in &cli.eval {
+            let result = runner.run_string(script, "-e")?;
+            if root {
                 print_help_result(&runner, &result);
-                ExitCode::SUCCESS
-            }
-            Err(e) => {
-                report(&e);
-                ExitCode::FAILURE
-            }
-        };
-    }
-    for script in &cli.eval {
-        match runner.run_string(script, "-e") {
-            Ok(result) => print_help_result(&runner, &result),
-            Err(e) => {
-                report(&e);
-                return ExitCode::FAILURE;
             }
         }
-    }
-    for path in &cli.scripts {
-        if let Err(e) = runner.run_file(path) {
-            report(&e);
-            return ExitCode::FAILURE;
+        for path in &cli.scripts {
+            runner.run_file(path)?;
         }
-    }
-    ExitCode::SUCCESS
+        Ok(())
+    };
+    let result = run();
+    launch.finish(result, report)
 }

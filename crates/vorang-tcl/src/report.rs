@@ -39,3 +39,13 @@ impl Reporter for Collect {
         self.warnings.push(text.to_string());
     }
 }
+
+/// Says nothing: a rank of a distributed session other than rank 0, whose messages rank 0
+/// already shows (docs/distributed.md).
+#[derive(Debug, Default, Clone, Copy)]
+pub struct Quiet;
+
+impl Reporter for Quiet {
+    fn info(&mut self, _: &str) {}
+    fn warn(&mut self, _: &str) {}
+}

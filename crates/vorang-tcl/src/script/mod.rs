@@ -21,7 +21,7 @@ use std::rc::Rc;
 
 pub use commands::{COMMANDS, CommandInfo};
 
-pub use crate::report::{Collect, Reporter, Terminal};
+pub use crate::report::{Collect, Quiet, Reporter, Terminal};
 use crate::tcl::Interp;
 pub use crate::{tcl, tk};
 use vorang::session::{Notice, Session};

@@ -66,6 +66,28 @@ pub struct Stats {
     pub timing: Timing,
 }
 
+impl Stats {
+    /// Nothing rendered (a rank of a distributed frame that gets no image).
+    pub fn empty() -> Stats {
+        Stats {
+            cells: 0,
+            drawn: 0,
+            fragments: 0,
+            lane_fragments: 0,
+            sort: "",
+            convex: false,
+            cycle_cells: 0,
+            per_pixel: false,
+            most_runs: 0,
+            non_finite: 0,
+            first_non_finite: None,
+            overlap_pixels: 0,
+            overlap_cells: Vec::new(),
+            timing: Timing::default(),
+        }
+    }
+}
+
 /// Where a render's time went (wall clock).
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Timing {

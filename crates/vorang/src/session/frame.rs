@@ -12,11 +12,13 @@ use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
 use std::time::{Duration, Instant};
 
-use super::{Notice, Session, display_path, warnings};
+use super::{Notice, Ranks, Session, display_path, warnings};
 use crate::Error;
+use crate::distributed::frame::{render_frame, render_virtual};
 use crate::framebuffer::{Framebuffer, format_for, numbered, write_image};
 use crate::legend::{self, ColorScale};
 use crate::mapping::Mapping;
+use crate::mapping::{AlphaMap, ColorMap};
 use crate::render::{Order, Settings, Stats, TileSink, Watch, render_watched};
 use crate::scene::View;
 use crate::volume::Volume;
@@ -45,6 +47,16 @@ pub struct Prepared {
     /// Which renders it (only the CPU in a build without the GPU backend).
     #[cfg_attr(not(feature = "gpu"), allow(dead_code))]
     backend: super::Backend,
+    /// Which ranks render it.
+    ranked: Ranked,
+}
+
+/// Which ranks render a prepared frame ([`Ranks`]): this process, virtual ranks (every piece,
+/// with the maps each binds to its own), or this process as one rank.
+enum Ranked {
+    One,
+    Virtual(Box<(Vec<Arc<Volume>>, ColorMap, AlphaMap)>),
+    Comm(Arc<dyn crate::distributed::Comm>),
 }
 
 impl Prepared {
@@ -54,11 +66,34 @@ impl Prepared {
         std::mem::take(&mut self.notices)
     }
 
-    /// Renders the frame; callable from any thread.
+    /// Renders the frame; callable from any thread. A rank of a distributed session other than
+    /// rank 0 gets an empty image (0 × 0) and its own statistics.
     pub fn render(&self, hooks: &Hooks) -> Result<(Framebuffer, Stats), Error> {
         #[cfg(feature = "gpu")]
         if let super::Backend::Gpu(g) = &self.backend {
             return g.render(&self.volume, &self.mapping, &self.view, &self.settings);
+        }
+        let (view, settings, cancel) = (&self.view, &self.settings, hooks.cancel);
+        match &self.ranked {
+            Ranked::One => {}
+            Ranked::Virtual(v) => {
+                let (pieces, c, a) = &**v;
+                return render_virtual(pieces, (c, a), view, settings, cancel);
+            }
+            Ranked::Comm(comm) => {
+                let vol = &self.volume;
+                return match render_frame(
+                    comm.as_ref(),
+                    vol,
+                    &self.mapping,
+                    view,
+                    settings,
+                    cancel,
+                )? {
+                    Some(image) => Ok(image),
+                    None => Ok((Framebuffer::try_new(0, 0)?, Stats::empty())),
+                };
+            }
         }
         let watch = Watch {
             progress: hooks.progress,
@@ -106,10 +141,27 @@ impl Session {
             .volume
             .clone()
             .ok_or_else(|| format!("{command}: no volume loaded: use 'volume file' first"))?;
-        let (mapping, w) =
-            Mapping::new(&self.colormap, &self.alphamap, &volume).map_err(|e| e.to_string())?;
+        let bound =
+            Mapping::new(&self.colormap, &self.alphamap, &volume).map_err(|e| e.to_string());
+        // Bound on every rank's piece: the maps may fit one and not another.
+        self.agree(bound.as_ref().map(|_| ()).map_err(String::clone))?;
+        let (mapping, w) = bound?;
+        let ranked = match &self.ranks {
+            Ranks::One => Ranked::One,
+            Ranks::Comm(c) => Ranked::Comm(Arc::clone(c)),
+            Ranks::Virtual(_) if self.pieces.is_empty() => {
+                return Err(format!(
+                    "{command}: virtual ranks need a volume read by 'volume FILE' (each rank reads its share)"
+                ));
+            }
+            Ranks::Virtual(_) => Ranked::Virtual(Box::new((
+                self.pieces.clone(),
+                self.colormap.clone(),
+                self.alphamap.clone(),
+            ))),
+        };
         let mut path = None;
-        if to_file && self.movie.is_none() {
+        if to_file && self.movie.is_none() && self.followed_movie().is_none() {
             if self.next_number == u32::MAX {
                 return Err(format!(
                     "{command}: the image numbers are used up (the last was {}): use 'set_nr' to start again",
@@ -122,6 +174,11 @@ impl Session {
         }
         #[cfg(feature = "gpu")]
         if let super::Backend::Gpu(_) = &self.backend {
+            if self.is_distributed() {
+                return Err(format!(
+                    "{command}: backend gpu renders in one process, not in a distributed session"
+                ));
+            }
             // What the GPU cannot render is said before the frame starts.
             crate::gpu::frame::check_method(&self.settings.method)
                 .and_then(|_| crate::gpu::frame::check_mapping(&mapping, &volume).map(|_| ()))
@@ -145,6 +202,7 @@ impl Session {
             path,
             notices,
             backend: self.backend.clone(),
+            ranked,
         })
     }
 
@@ -196,6 +254,15 @@ impl Session {
     ) -> Result<Image, String> {
         let command = prepared.command;
         let (mut fb, stats) = result.map_err(|e| format!("{command}: {e}"))?;
+        if !self.is_root() {
+            // Another rank's image is rank 0's to finish and report.
+            return Ok(Image {
+                framebuffer: fb,
+                stats,
+                seconds,
+                notices: Vec::new(),
+            });
+        }
         let mut notices = std::mem::take(&mut prepared.notices);
         let clamped: u64 = self
             .colormap
@@ -268,7 +335,13 @@ impl Session {
             seconds,
             notices,
         } = image;
+        let followed = if self.is_root() {
+            None
+        } else {
+            self.follow_frame(prepared.path.clone())
+        };
         let (shown, written) = match (&mut self.movie, prepared.path) {
+            _ if followed.is_some() => followed.unwrap_or_default(),
             (Some(movie), _) => {
                 movie.add(&fb).map_err(|e| format!("{command}: {e}"))?;
                 self.number_set = false;

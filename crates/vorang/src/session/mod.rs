@@ -33,6 +33,7 @@
 //! ```
 
 mod frame;
+mod ranks;
 mod script;
 mod series;
 
@@ -42,6 +43,7 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 pub use frame::{Frame, Hooks, Image, Prepared, timing_line};
+pub use ranks::Ranks;
 
 use crate::formats::hypermesh::{self, Encoding, WriteOptions};
 use crate::framebuffer::{Background, BackgroundImage, format_for};
@@ -144,6 +146,12 @@ pub struct Session {
     method_set: bool,
     /// The default camera's distortion is pointed out once per session.
     aspect_hinted: bool,
+    /// Who renders the frames: this process, virtual ranks, or this process as one rank.
+    ranks: Ranks,
+    /// Virtual ranks: every rank's piece, rank 0's first (also `volume`).
+    pieces: Vec<Arc<Volume>>,
+    /// A rank that does not write (not rank 0): the movie rank 0 writes, and its frames.
+    movie_elsewhere: Option<(PathBuf, usize)>,
     /// The collection the volume is a step of (`volume` on a `.pvd`, `.pvtu`, `.vtm`,
     /// `.series`), with the step shown.
     series: Option<series::Shown>,
@@ -200,6 +208,9 @@ impl Session {
             alphamap_set: false,
             method_set: false,
             aspect_hinted: false,
+            ranks: Ranks::One,
+            pieces: Vec::new(),
+            movie_elsewhere: None,
             series: None,
             label: None,
             backend: Backend::Cpu,
@@ -274,6 +285,9 @@ impl Session {
     /// ("N nodes, M tetrahedra, K fields"). A collection (`.pvd`, `.pvtu`, `.vtm`, `.series`)
     /// loads its step 0, and the summary adds its steps and their time range.
     pub fn load_volume(&mut self, path: &Path) -> Result<(String, Vec<Notice>), String> {
+        if let Some(loaded) = self.load_share(path)? {
+            return Ok(loaded);
+        }
         if let Some(loaded) = self.load_collection(path)? {
             return Ok(loaded);
         }
@@ -311,6 +325,7 @@ impl Session {
             dropped.push("look_at");
         }
         self.volume = Some(vol);
+        self.pieces.clear();
         self.series = None;
         self.colormap = ColorMap::default_map();
         self.alphamap = AlphaMap::default_map();
@@ -332,6 +347,7 @@ impl Session {
         path: &Path,
         append: bool,
     ) -> Result<(String, Vec<Notice>), String> {
+        self.whole_volume_only("data")?;
         let vol = self.need_volume("data")?;
         let (next, w) = crate::formats::load_data(&vol, path, append).map_err(|e| e.to_string())?;
         let n = next.data.fields.len();
@@ -353,6 +369,7 @@ impl Session {
         opts: WriteOptions,
         explicit: bool,
     ) -> Result<Vec<Notice>, String> {
+        self.whole_volume_only("save_volume")?;
         let vol = self
             .volume
             .as_ref()
@@ -371,6 +388,7 @@ impl Session {
 
     /// `save_subset FILE FIELD ?binary|ascii?`: the cells where the Constant field is not zero.
     pub fn save_subset(&self, path: &Path, field: usize, encoding: Encoding) -> Result<(), String> {
+        self.whole_volume_only("save_subset")?;
         let vol = self
             .volume
             .as_ref()
@@ -382,10 +400,11 @@ impl Session {
 
     /// Binds the maps now if a volume is loaded, so that a mismatch is reported at the command.
     fn check_maps(&self, color: &ColorMap, alpha: &AlphaMap) -> Result<(), String> {
-        if let Some(vol) = &self.volume {
-            Mapping::new(color, alpha, vol).map_err(|e| e.to_string())?;
-        }
-        Ok(())
+        self.on_every_piece(|vol| {
+            Mapping::new(color, alpha, vol)
+                .map(|_| ())
+                .map_err(|e| e.to_string())
+        })
     }
 
     /// `colormap`: the colour mapping (checked against the volume, if one is loaded).
@@ -416,6 +435,7 @@ impl Session {
         command: &str,
         preset: &str,
     ) -> Result<Option<(f64, Notice)>, String> {
+        self.whole_volume_only(command)?;
         let vol = self.need_volume(command)?;
         let size = vol.mesh.bbox().size();
         let diagonal = size.iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -453,8 +473,12 @@ impl Session {
 
     /// `linedraw`: which grid edges are drawn (a field's values are checked against the volume).
     pub fn set_lines(&mut self, lines: LineDraw) -> Result<(), String> {
-        if let (Some(vol), LineDraw::Cells { .. }) = (&self.volume, &lines) {
-            crate::render::lines::edges(vol, &lines).map_err(|e| e.to_string())?;
+        if let LineDraw::Cells { .. } = &lines {
+            self.on_every_piece(|vol| {
+                crate::render::lines::edges(vol, &lines)
+                    .map(|_| ())
+                    .map_err(|e| e.to_string())
+            })?;
         }
         self.settings.lines = lines;
         Ok(())
@@ -497,6 +521,7 @@ impl Session {
 
     /// `view_all`: a camera of the current kind that frames the transformed volume.
     pub fn view_all(&mut self) -> Result<(), String> {
+        self.whole_volume_only("view_all")?;
         let vol = self
             .volume
             .clone()
@@ -650,6 +675,10 @@ impl Session {
         if let Some((_, note)) = self.close_movie()? {
             notes.push(note);
         }
+        if !self.is_root() {
+            self.follow_movie(path);
+            return Ok(notes);
+        }
         self.movie = Some(Movie::open(path, fps).map_err(|e| format!("movie: {e}"))?);
         Ok(notes)
     }
@@ -657,6 +686,9 @@ impl Session {
     /// `movie close` (also a new `movie` and the session's end): writes the open movie, if any;
     /// the note names the file and its frames.
     pub fn close_movie(&mut self) -> Result<Option<(PathBuf, Notice)>, String> {
+        if let Some((path, _)) = self.movie_elsewhere.take() {
+            return Ok(Some((path.clone(), Notice::Note(display_path(&path)))));
+        }
         let Some(movie) = self.movie.take() else {
             return Ok(None);
         };

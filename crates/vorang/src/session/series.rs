@@ -130,6 +130,7 @@ impl Session {
     /// shown step stays.
     pub fn set_timestep(&mut self, index: usize) -> Result<Vec<Notice>, String> {
         self.need_volume("timestep")?;
+        self.whole_volume_only("timestep")?;
         let Some(shown) = &self.series else {
             return match index {
                 0 => Ok(Vec::new()),

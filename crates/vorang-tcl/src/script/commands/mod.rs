@@ -8,6 +8,7 @@ mod help;
 mod image;
 mod lights;
 mod maps;
+mod ranks;
 mod rendering;
 mod series;
 mod view;
@@ -62,6 +63,7 @@ pub const COMMANDS: &[CommandInfo] = &[
     rendering::BACKEND,
     rendering::RENDER_BTF,
     rendering::RENDER_FTB,
+    ranks::RANK,
     view::VIEW,
     help::HELP,
 ];
