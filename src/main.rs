@@ -49,10 +49,14 @@ enum Command {
         check: bool,
     },
     /// Convert a mesh file: any readable format to HyperMesh (ASCII or BINARY, full or small
-    /// layout; bin2Asc) or, for an output named *.vtu, to VTK XML (binary appended, zlib).
+    /// layout; bin2Asc) or, for an output named *.vtu, to VTK XML (binary appended, zlib); for
+    /// *.pvtu, a parallel grid of --pieces .vtu files (input for `mpirun -np N vorang`).
     Convert {
         input: PathBuf,
         output: PathBuf,
+        /// For a .pvtu output: this many pieces, cut in the Morton order of the cells.
+        #[arg(long, value_name = "N")]
+        pieces: Option<usize>,
         /// Write ASCII (the default).
         #[arg(long, conflicts_with = "binary")]
         ascii: bool,
@@ -140,12 +144,32 @@ fn data_command(command: Command) -> Result<bool, Error> {
         Command::Convert {
             input,
             output,
+            pieces,
             ascii,
             binary,
             small,
         } => {
             let (vol, warnings) = Volume::load(&input)?;
             print_warnings(&warnings);
+            if output.extension().is_some_and(|e| e == "pvtu") {
+                let n = pieces.unwrap_or(1).max(1);
+                let cut = vorang::distributed::write::morton_pieces(&vol, n);
+                let w = vorang::distributed::write::write_pvtu(&vol, &output, &cut)?;
+                print_warnings(&w);
+                eprintln!(
+                    "wrote {} ({n} piece{}, {} tetrahedra)",
+                    output.display(),
+                    if n == 1 { "" } else { "s" },
+                    vol.mesh.tet_count()
+                );
+                return Ok(true);
+            }
+            if pieces.is_some() {
+                return Err(Error::Invalid(format!(
+                    "--pieces: only a .pvtu output is written in pieces, not {}",
+                    output.display()
+                )));
+            }
             let format = vorang::formats::format_for_writing(&output);
             let hypermesh_out = format.name == "HyperMesh";
             if !hypermesh_out && (ascii || binary || small) {

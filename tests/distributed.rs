@@ -207,3 +207,123 @@ fn nodes_numbered_by_coordinates_give_the_same_image() {
     let n = check(&vol, &views()[..3], &s, &NodeKey::Coordinates);
     eprintln!("coordinates: {n} channels differ by one ulp");
 }
+
+/// A session rendering `path` with virtual ranks (`Some(n)`) or in one process.
+fn session_image(path: &std::path::Path, ranks: Option<usize>, view: &View) -> Framebuffer {
+    use vorang::session::{Hooks, Ranks, Session};
+    let mut s = Session::new();
+    if let Some(n) = ranks {
+        s.set_ranks(Ranks::Virtual(n));
+    }
+    s.load_volume(path).unwrap();
+    let (c, a) = maps();
+    s.set_colormap(c).unwrap();
+    s.set_alphamap(a).unwrap();
+    s.set_method(Method::parse(&["exact", "linear", "0", "1"]).unwrap());
+    s.set_image_size(64, 48).unwrap();
+    s.set_view(view.clone());
+    let cancel = AtomicBool::new(false);
+    let hooks = Hooks {
+        progress: None,
+        tile: None,
+        cancel: &cancel,
+    };
+    s.render_image(Order::BackToFront, &hooks)
+        .unwrap()
+        .framebuffer
+}
+
+/// A `.pvtu` read by virtual ranks — each rank reading its own pieces, or its Morton part of
+/// one — gives the image of the `.pvtu` read whole: contiguous and scattered pieces, an empty
+/// piece, more ranks than pieces.
+#[test]
+fn pvtu_pieces_read_by_ranks_give_the_whole_image() {
+    use vorang::distributed::write::write_pvtu;
+    let vol = vorang::volume::jittered_box_with_holes(1200, 0.1, 5, 0.15);
+    let dir = tempfile::tempdir().unwrap();
+    let n = vol.mesh.tet_count() as u32;
+    let cases: Vec<(&str, Vec<Vec<u32>>)> = vec![
+        (
+            "contiguous",
+            (0..3)
+                .map(|p| (p * n / 3..(p + 1) * n / 3).collect())
+                .collect(),
+        ),
+        (
+            "scattered",
+            (0..2)
+                .map(|p| (0..n).filter(|c| c % 2 == p).collect())
+                .collect(),
+        ),
+        (
+            "empty",
+            vec![(0..n / 2).collect(), Vec::new(), (n / 2..n).collect()],
+        ),
+    ];
+    let views = views();
+    for (name, pieces) in cases {
+        let path = dir.path().join(format!("{name}.pvtu"));
+        write_pvtu(&vol, &path, &pieces).unwrap();
+        for (vname, view) in &views[..4] {
+            let whole = session_image(&path, None, view);
+            assert!(whole.max_channel() > 0.01);
+            for ranks in 1..=4 {
+                let fb = session_image(&path, Some(ranks), view);
+                let (differ, most) = ulps(&whole, &fb);
+                assert!(
+                    most <= 1,
+                    "{name}, {vname}, {ranks} ranks: {differ} channels differ by up to {most} ulps"
+                );
+            }
+        }
+    }
+}
+
+/// A `.pvtu` with ghost cells (written by VTK): the ranks drop them as one process does.
+#[test]
+fn pvtu_with_ghost_cells_read_by_ranks() {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/series/flow_p_0.pvtu");
+    let view = &views()[1].1;
+    let whole = session_image(&path, None, view);
+    assert!(whole.max_channel() > 0.01, "{}", whole.max_channel());
+    for ranks in 1..=4 {
+        let fb = session_image(&path, Some(ranks), view);
+        let (differ, most) = ulps(&whole, &fb);
+        assert!(
+            most <= 1,
+            "{ranks} ranks: {differ} channels differ by up to {most} ulps"
+        );
+    }
+}
+
+/// A missing or truncated piece stops the volume on every virtual rank with the reading rank's
+/// message (the ranks that read other pieces wait for nobody).
+#[test]
+fn a_missing_or_truncated_piece_is_every_ranks_error() {
+    use vorang::distributed::write::write_pvtu;
+    use vorang::session::{Ranks, Session};
+    let vol = vorang::volume::jittered_box(600, 0.1, 2);
+    let dir = tempfile::tempdir().unwrap();
+    let n = vol.mesh.tet_count() as u32;
+    let pieces: Vec<Vec<u32>> = (0..3)
+        .map(|p| (p * n / 3..(p + 1) * n / 3).collect())
+        .collect();
+    let path = dir.path().join("g.pvtu");
+    write_pvtu(&vol, &path, &pieces).unwrap();
+    let piece = dir.path().join("g/g_2.vtu");
+    let bytes = std::fs::read(&piece).unwrap();
+    std::fs::write(&piece, &bytes[..bytes.len() / 3]).unwrap();
+    for ranks in [1, 2, 3, 4] {
+        let mut s = Session::new();
+        s.set_ranks(Ranks::Virtual(ranks));
+        let e = s.load_volume(&path).unwrap_err();
+        assert!(e.contains("g_2.vtu"), "{ranks} ranks: {e}");
+        assert!(s.volume().is_none());
+    }
+    std::fs::remove_file(&piece).unwrap();
+    let mut s = Session::new();
+    s.set_ranks(Ranks::Virtual(3));
+    let e = s.load_volume(&path).unwrap_err();
+    assert!(e.contains("g_2.vtu: no such file"), "{e}");
+}

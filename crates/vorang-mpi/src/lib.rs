@@ -111,8 +111,10 @@ impl Mpi {
         let mut len = bytes.len() as u64;
         let root = world.process_at_rank(first as i32);
         root.broadcast_into(&mut len);
-        bytes.resize(len as usize, 0);
-        root.broadcast_into(&mut bytes[..]);
+        let len = len as usize;
+        bytes.resize(len + 1, 0);
+        root.broadcast_into(&mut bytes[..len]);
+        bytes.truncate(len);
         let failure = Failure {
             rank: first,
             script: bytes.first() == Some(&SCRIPT),
@@ -139,6 +141,13 @@ fn layout(lens: impl Iterator<Item = usize>) -> Option<(Vec<Count>, Vec<Count>)>
     }
     Count::try_from(at).ok()?;
     Some((counts, displs))
+}
+
+/// `len` bytes in a buffer that is never empty: an empty `Vec`'s address is 1, which Open MPI
+/// takes for `MPI_IN_PLACE` (and refuses in an all-to-all), so every buffer holds one byte more
+/// than it passes.
+fn buffer(len: usize) -> Vec<u8> {
+    vec![0u8; len + 1]
 }
 
 /// A message too large for one MPI call ends the program on every rank (MPI_Abort): no rank is
@@ -185,12 +194,14 @@ impl Comm for Mpi {
         let Some((rcounts, rdispls)) = layout(recv_counts.iter().map(|&c| c as usize)) else {
             too_large(&world)
         };
-        let flat: Vec<u8> = send.concat();
+        let sent: usize = send.iter().map(Vec::len).sum();
+        let mut flat = send.concat();
+        flat.push(0);
         let total = rcounts.iter().map(|&c| c as usize).sum();
-        let mut recv = vec![0u8; total];
+        let mut recv = buffer(total);
         {
-            let out = Partition::new(&flat[..], &counts[..], &displs[..]);
-            let mut into = PartitionMut::new(&mut recv[..], &rcounts[..], &rdispls[..]);
+            let out = Partition::new(&flat[..sent], &counts[..], &displs[..]);
+            let mut into = PartitionMut::new(&mut recv[..total], &rcounts[..], &rdispls[..]);
             world.all_to_all_varcount_into(&out, &mut into);
         }
         rcounts
@@ -206,9 +217,12 @@ impl Comm for Mpi {
         let Ok(len) = Count::try_from(mine.len()) else {
             too_large(&world)
         };
+        let n = mine.len();
+        let mut mine = mine;
+        mine.push(0);
         if self.rank != 0 {
             root.gather_into(&len);
-            root.gather_varcount_into(&mine[..]);
+            root.gather_varcount_into(&mine[..n]);
             return None;
         }
         let mut lens = vec![0 as Count; self.size];
@@ -217,10 +231,10 @@ impl Comm for Mpi {
             too_large(&world)
         };
         let total = counts.iter().map(|&c| c as usize).sum();
-        let mut all = vec![0u8; total];
+        let mut all = buffer(total);
         {
-            let mut into = PartitionMut::new(&mut all[..], &counts[..], &displs[..]);
-            root.gather_varcount_into_root(&mine[..], &mut into);
+            let mut into = PartitionMut::new(&mut all[..total], &counts[..], &displs[..]);
+            root.gather_varcount_into_root(&mine[..n], &mut into);
         }
         Some(
             counts

@@ -21,6 +21,7 @@ pub mod frame;
 pub mod load;
 pub mod partition;
 mod threads;
+pub mod write;
 
 pub use frame::render_frame;
 pub use load::load;
