@@ -17,6 +17,7 @@ fn roots() -> Vec<PathBuf> {
     [
         "crates/vorang/src",
         "crates/vorang-tcl/src",
+        "crates/vorang-mpi/src",
         "src",
         "python/src",
     ]

@@ -428,5 +428,16 @@ pub fn timing_line(stats: &Stats) -> String {
         100.0 * stats.lane_fragments as f64 / stats.fragments.max(1) as f64,
         crate::render::span::kernel().name(),
         rayon::current_num_threads()
+    ) + &composite_part(t.composite)
+}
+
+/// A distributed frame's compositing time, for the timing line (nothing in one process).
+fn composite_part(composite: Duration) -> String {
+    if composite.is_zero() {
+        return String::new();
+    }
+    format!(
+        "; composite {:.1} ms (runs exchanged, pixels settled and gathered)",
+        composite.as_secs_f64() * 1e3
     )
 }
