@@ -20,7 +20,7 @@ use mpi::topology::{Communicator, SimpleCommunicator};
 use mpi::traits::*;
 
 pub use mpi::environment::Universe;
-use vorang::distributed::Comm;
+use vorang::distributed::{Comm, Received};
 
 /// Environment variables that a launcher (Open MPI's `mpirun`, PMI/PMIx as `srun` and MPICH
 /// set them) gives the processes it starts.
@@ -184,7 +184,7 @@ impl Comm for Mpi {
             .all_reduce_into(&send[..], values, SystemOperation::sum());
     }
 
-    fn all_to_all(&self, send: Vec<Vec<u8>>) -> Vec<Vec<u8>> {
+    fn all_to_all(&self, send: Vec<Vec<u8>>) -> Received {
         let world = self.world();
         let Some((counts, displs)) = layout(send.iter().map(Vec::len)) else {
             too_large(&world)
@@ -195,7 +195,11 @@ impl Comm for Mpi {
             too_large(&world)
         };
         let sent: usize = send.iter().map(Vec::len).sum();
-        let mut flat = send.concat();
+        // Each rank's part freed as it is copied: the runs are not held twice.
+        let mut flat = Vec::with_capacity(sent + 1);
+        for part in send {
+            flat.extend_from_slice(&part);
+        }
         flat.push(0);
         let total = rcounts.iter().map(|&c| c as usize).sum();
         let mut recv = buffer(total);
@@ -204,11 +208,15 @@ impl Comm for Mpi {
             let mut into = PartitionMut::new(&mut recv[..total], &rcounts[..], &rdispls[..]);
             world.all_to_all_varcount_into(&out, &mut into);
         }
-        rcounts
-            .iter()
-            .zip(&rdispls)
-            .map(|(&c, &d)| recv[d as usize..(d + c) as usize].to_vec())
-            .collect()
+        recv.truncate(total);
+        Received {
+            bytes: recv,
+            ranges: rcounts
+                .iter()
+                .zip(&rdispls)
+                .map(|(&c, &d)| d as usize..(d + c) as usize)
+                .collect(),
+        }
     }
 
     fn gather(&self, mine: Vec<u8>) -> Option<Vec<Vec<u8>>> {

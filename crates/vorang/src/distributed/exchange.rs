@@ -26,16 +26,24 @@ pub fn owner(tile: usize, ranks: usize) -> usize {
 /// Bytes of one run in a message.
 const STRETCH_BYTES: usize = 48;
 
-/// This rank's runs, per tile, as the message to each rank (the tiles it owns, in order).
-pub fn pack(tiles: &[DeepTile], ranks: usize) -> Vec<Vec<u8>> {
-    let mut out = vec![Vec::new(); ranks];
+/// This rank's runs, per tile, as the message to each rank (the tiles it owns, in order). Each
+/// tile is freed once it is packed, so that the runs are not held twice.
+pub fn pack(tiles: Vec<DeepTile>, ranks: usize) -> Vec<Vec<u8>> {
+    // Sized exactly first: grown by doubling, the buffers could hold twice the runs.
+    let mut sizes = vec![0usize; ranks];
     for (t, tile) in tiles.iter().enumerate() {
+        sizes[owner(t, ranks)] += 4 + match tile.stretches.len() {
+            0 => 0,
+            n => 4 * tile.counts.len() + STRETCH_BYTES * n,
+        };
+    }
+    let mut out: Vec<Vec<u8>> = sizes.into_iter().map(Vec::with_capacity).collect();
+    for (t, tile) in tiles.into_iter().enumerate() {
         let buf = &mut out[owner(t, ranks)];
         buf.extend_from_slice(&(tile.stretches.len() as u32).to_le_bytes());
         if tile.stretches.is_empty() {
             continue;
         }
-        buf.reserve(4 * tile.counts.len() + STRETCH_BYTES * tile.stretches.len());
         for c in &tile.counts {
             buf.extend_from_slice(&c.to_le_bytes());
         }
@@ -101,7 +109,7 @@ struct Settled {
 /// an overlap and the most runs one pixel held (`u64` each), then the tiles' pixels (`f32`
 /// RGBA, tile by tile, row by row).
 pub fn settle(
-    incoming: &[Vec<u8>],
+    incoming: &[&[u8]],
     rank: usize,
     ranks: usize,
     (width, height): (usize, usize),

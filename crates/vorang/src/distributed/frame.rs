@@ -69,9 +69,11 @@ pub fn render_frame(
     let (deep, resolver) = agreed(comm, ready)?;
     let started = Instant::now();
     let (rank, ranks) = (comm.rank(), comm.size());
-    let incoming = comm.all_to_all(pack(&deep.tiles, ranks));
-    drop(deep.tiles);
-    let settled = agreed(comm, settle(&incoming, rank, ranks, size, &resolver))?;
+    let incoming = comm.all_to_all(pack(deep.tiles, ranks));
+    let settled = agreed(
+        comm,
+        settle(&incoming.parts(), rank, ranks, size, &resolver),
+    )?;
     drop(incoming);
     let gathered = comm.gather(settled);
     let s = &deep.stats;

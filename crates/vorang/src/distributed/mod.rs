@@ -9,6 +9,7 @@
 //!   send to rank 0 (the bytes of one all-to-all and one gather).
 //! - [`frame`]: one frame on every rank: the runs of this rank's cells
 //!   ([`crate::render::deep`]), the exchange, the owned pixels settled, the image on rank 0.
+//! - [`write`]: a volume written as a `.pvtu` of pieces (input for the ranks).
 //!
 //! The ranks talk through [`Comm`]: MPI in the `vorang` program built with the `mpi` feature
 //! (the `vorang-mpi` crate), or [`Threads`] — ranks as threads of one process, the "virtual
@@ -43,9 +44,36 @@ pub trait Comm: Send + Sync {
     fn sum_u64(&self, values: &mut [u64]);
     /// `send[d]` goes to rank `d` (one entry per rank); returns what each rank sent to this
     /// one, by sending rank.
-    fn all_to_all(&self, send: Vec<Vec<u8>>) -> Vec<Vec<u8>>;
+    fn all_to_all(&self, send: Vec<Vec<u8>>) -> Received;
     /// Rank 0 gets every rank's bytes, by rank; the others get `None`.
     fn gather(&self, mine: Vec<u8>) -> Option<Vec<Vec<u8>>>;
+}
+
+/// What an all-to-all brought: every rank's message, one after the other in one buffer (by
+/// sending rank), so that a large exchange is not held twice.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct Received {
+    pub bytes: Vec<u8>,
+    /// Where each rank's message lies in `bytes`.
+    pub ranges: Vec<std::ops::Range<usize>>,
+}
+
+impl Received {
+    /// Messages one after the other.
+    pub fn concat(parts: Vec<Vec<u8>>) -> Received {
+        let mut out = Received::default();
+        for p in parts {
+            let at = out.bytes.len();
+            out.bytes.extend_from_slice(&p);
+            out.ranges.push(at..out.bytes.len());
+        }
+        out
+    }
+
+    /// Each rank's message.
+    pub fn parts(&self) -> Vec<&[u8]> {
+        self.ranges.iter().map(|r| &self.bytes[r.clone()]).collect()
+    }
 }
 
 /// The elementwise maximum over all ranks, through [`Comm::min_f64`].

@@ -4,7 +4,7 @@
 
 use std::sync::{Arc, Barrier, Mutex};
 
-use super::Comm;
+use super::{Comm, Received};
 
 /// One rank of a group of threads; [`Threads::group`] makes them.
 pub struct Threads {
@@ -106,8 +106,8 @@ impl Comm for Threads {
         }
     }
 
-    fn all_to_all(&self, send: Vec<Vec<u8>>) -> Vec<Vec<u8>> {
-        self.exchange(send)
+    fn all_to_all(&self, send: Vec<Vec<u8>>) -> Received {
+        Received::concat(self.exchange(send))
     }
 
     fn gather(&self, mine: Vec<u8>) -> Option<Vec<Vec<u8>>> {
@@ -143,9 +143,10 @@ mod tests {
                     comm.sum_u64(&mut n);
                     assert_eq!(n, [6]);
                     let got = comm.all_to_all((0..3).map(|d| vec![r as u8, d as u8]).collect());
+                    let want: Vec<Vec<u8>> = (0..3).map(|s| vec![s as u8, r as u8]).collect();
                     assert_eq!(
-                        got,
-                        (0..3).map(|s| vec![s as u8, r as u8]).collect::<Vec<_>>()
+                        got.parts(),
+                        want.iter().map(Vec::as_slice).collect::<Vec<_>>()
                     );
                     let g = comm.gather(vec![r as u8; r]);
                     if r == 0 {
