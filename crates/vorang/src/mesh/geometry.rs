@@ -111,6 +111,14 @@ impl Aabb {
         b
     }
 
+    /// The smallest box holding both boxes (exact: minima and maxima round nothing).
+    pub fn union(&self, other: &Aabb) -> Aabb {
+        Aabb {
+            min: [0, 1, 2].map(|k| self.min[k].min(other.min[k])),
+            max: [0, 1, 2].map(|k| self.max[k].max(other.max[k])),
+        }
+    }
+
     pub fn center(&self) -> [f64; 3] {
         [0, 1, 2].map(|k| 0.5 * (self.min[k] + self.max[k]))
     }

@@ -185,17 +185,26 @@ impl TetMesh {
         if tets.len() >= 1 << 30 {
             return Err(MeshError::TooLarge { tets: tets.len() });
         }
-        if let Some(node) = nodes.iter().position(|p| !p.iter().all(|c| c.is_finite())) {
+        use rayon::prelude::*;
+        if let Some(node) = nodes
+            .par_iter()
+            .with_min_len(CELLS_PER_TASK)
+            .position_first(|p| !p.iter().all(|c| c.is_finite()))
+        {
             return Err(MeshError::NonFinite { node });
         }
         let reoriented = orient_cells(&nodes, &mut tets)?;
         let neighbors = adjacency::face_neighbors(nodes.len(), &tets)?;
         let boundary_faces = neighbors
-            .iter()
-            .flatten()
-            .filter(|&&n| n == NO_NEIGHBOR)
-            .count();
-        let bbox = Aabb::of_points(&nodes);
+            .par_iter()
+            .with_min_len(CELLS_PER_TASK)
+            .map(|nb| nb.iter().filter(|&&n| n == NO_NEIGHBOR).count())
+            .sum();
+        // Minima and maxima are exact, so the chunks' boxes merge to the serial box.
+        let bbox = nodes
+            .par_chunks(CELLS_PER_TASK)
+            .map(Aabb::of_points)
+            .reduce(|| Aabb::of_points(&[]), |a, b| a.union(&b));
         Ok(TetMesh {
             nodes,
             tets,

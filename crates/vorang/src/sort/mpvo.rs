@@ -2,6 +2,7 @@
 //! orientation predicates so that both cells of a face always agree.
 
 use std::collections::BinaryHeap;
+use std::sync::atomic::{AtomicU8, Ordering::Relaxed};
 
 use rayon::prelude::*;
 
@@ -55,9 +56,10 @@ fn behind_count(state: u8) -> u8 {
     (state >> 4) & 7
 }
 
-/// The relation for every cell, in parallel. Both cells of a face evaluate the same exact
+/// The relation for every cell, in parallel, each cell's byte made by `wrap` (plain for the
+/// serial sort, atomic for the parallel one). Both cells of a face evaluate the same exact
 /// predicate (with the face's nodes in opposite orders), so they always agree.
-fn relation(input: &SortInput) -> Vec<u8> {
+fn relation<T: Send>(input: &SortInput, wrap: fn(u8) -> T) -> Vec<T> {
     let nbs = input.mesh.neighbors();
     (0..input.mesh.tet_count())
         .into_par_iter()
@@ -76,7 +78,7 @@ fn relation(input: &SortInput) -> Vec<u8> {
                     _ => {}
                 }
             }
-            state
+            wrap(state)
         })
         .collect()
 }
@@ -108,12 +110,14 @@ trait Ready {
     fn into_order(self) -> Vec<u32>;
 }
 
-/// First in, first out.
+/// First in, first out: the serial MPVO the parallel one is tested against.
+#[cfg(test)]
 struct Fifo {
     cells: Vec<u32>,
     next: usize,
 }
 
+#[cfg(test)]
 impl Ready for Fifo {
     const KEEPS_ORDER: bool = true;
     fn push(&mut self, cell: u32, _: &SortInput) {
@@ -163,7 +167,7 @@ impl Ready for BinaryHeap<Far> {
 fn topological<Q: Ready>(input: &SortInput, mut ready: Q) -> Order {
     let n = input.mesh.tet_count();
     let nbs = input.mesh.neighbors();
-    let mut state = relation(input);
+    let mut state = relation(input, |s| s);
     let enqueue = |c: usize, state: &mut [u8], ready: &mut Q| {
         state[c] |= QUEUED;
         ready.push(c as u32, input);
@@ -219,13 +223,121 @@ fn topological<Q: Ready>(input: &SortInput, mut ready: Q) -> Order {
     }
 }
 
+/// MPVO on every core: Kahn's algorithm a level at a time. A level is every cell whose
+/// neighbours behind it have all been placed in earlier levels; its cells release their
+/// neighbours in front in parallel (an atomic count per cell, so each newly ready cell is taken
+/// by exactly one thread), and a large level's successors are put in cell order. The order
+/// therefore depends on the mesh and the view only, never on the number of threads or their
+/// timing; it is a valid MPVO order, which for a convex mesh composites every pixel's cells in
+/// the one order their faces dictate (a ray's cells are chained by faces, so they lie in
+/// different levels) — the image is that of any other valid order, bit for bit.
 fn mpvo(input: &SortInput) -> Order {
-    let cells = Vec::with_capacity(input.mesh.tet_count());
-    topological(input, Fifo { cells, next: 0 })
+    levels(input, PARALLEL_LEVEL)
+}
+
+/// [`mpvo`], releasing levels of at least `parallel_level` cells in parallel.
+fn levels(input: &SortInput, parallel_level: usize) -> Order {
+    let n = input.mesh.tet_count();
+    let nbs = input.mesh.neighbors();
+    let state = relation(input, AtomicU8::new);
+    let mut frontier: Vec<u32> = (0..n as u32)
+        .into_par_iter()
+        .with_min_len(4096)
+        .filter(|&c| {
+            let s = &state[c as usize];
+            let ready = behind_count(s.load(Relaxed)) == 0;
+            if ready {
+                s.fetch_or(QUEUED, Relaxed);
+            }
+            ready
+        })
+        .collect();
+    let mut order = Vec::with_capacity(n);
+    let mut cycle_cells = 0;
+    loop {
+        while !frontier.is_empty() {
+            order.extend_from_slice(&frontier);
+            frontier = if frontier.len() < parallel_level {
+                let mut next = Vec::new();
+                release(&frontier, nbs, &state, &mut next);
+                next
+            } else {
+                let mut next: Vec<u32> = frontier
+                    .par_chunks(LEVEL_CHUNK)
+                    .flat_map_iter(|chunk| {
+                        let mut next = Vec::new();
+                        release(chunk, nbs, &state, &mut next);
+                        next
+                    })
+                    .collect();
+                next.par_sort_unstable();
+                next
+            };
+        }
+        if order.len() == n {
+            break;
+        }
+        // A visibility cycle: the farthest cell still waiting goes next, as in `topological`.
+        let Some(c) = (0..n)
+            .into_par_iter()
+            .filter(|&c| state[c].load(Relaxed) & QUEUED == 0)
+            .max_by(|&a, &b| depth(input, a).total_cmp(&depth(input, b)).then(b.cmp(&a)))
+        else {
+            break;
+        };
+        cycle_cells += 1;
+        state[c].fetch_or(QUEUED, Relaxed);
+        frontier.push(c as u32);
+    }
+    Order {
+        back_to_front: order,
+        cycle_cells,
+    }
+}
+
+/// Levels with fewer cells than this are released on the calling thread (their successors
+/// then come in the order they were found, which depends on the level alone): below it the
+/// handing out of work costs more than it saves.
+const PARALLEL_LEVEL: usize = 4096;
+
+/// Cells of a level per parallel task.
+const LEVEL_CHUNK: usize = 1024;
+
+/// Places the cells of `level`: each neighbour in front of one loses one waiting neighbour
+/// behind it, and one that has none left (and was not forced out of a cycle) is pushed to
+/// `next` — by exactly one caller, as the count's last decrement and the queued bit are one
+/// atomic update.
+fn release(level: &[u32], nbs: &[[u32; 4]], state: &[AtomicU8], next: &mut Vec<u32>) {
+    for &c in level {
+        let front = state[c as usize].load(Relaxed) & 0xF;
+        for f in 0..4 {
+            if front & (1 << f) == 0 {
+                continue;
+            }
+            let m = nbs[c as usize][f];
+            let updated = state[m as usize].fetch_update(Relaxed, Relaxed, |s| {
+                let s = if behind_count(s) > 0 { s - BEHIND } else { s };
+                Some(if behind_count(s) == 0 { s | QUEUED } else { s })
+            });
+            if let Ok(old) = updated
+                && old & QUEUED == 0
+                && behind_count(old) <= 1
+            {
+                next.push(m);
+            }
+        }
+    }
 }
 
 fn mpvonc(input: &SortInput) -> Order {
     topological(input, BinaryHeap::with_capacity(1024))
+}
+
+/// Serial MPVO (a FIFO queue), the reference of the tests.
+#[cfg(test)]
+fn mpvo_serial(input: &SortInput) -> Order {
+    let cells = Vec::with_capacity(input.mesh.tet_count());
+    topological(input, Fifo { cells, next: 0 })
 }
 
 #[cfg(test)]
@@ -298,6 +410,94 @@ mod tests {
                 let o = s(&input);
                 assert_eq!(o.cycle_cells, 0);
                 assert_valid(&input, &o.back_to_front);
+            }
+        }
+    }
+
+    /// A box seen from a view whose screen positions are scrambled: the relation is then no
+    /// projection, full of cycles, and exercises every path of the level-parallel sort.
+    fn scrambled(mesh: &TetMesh, seed: u64) -> (Vec<[f64; 3]>, Vec<[f64; 2]>) {
+        let mut rng = crate::mesh::generate::SplitMix64(seed);
+        let eye: Vec<[f64; 3]> = mesh
+            .nodes()
+            .iter()
+            .map(|p| [p[0], p[1], p[2] - 3.0])
+            .collect();
+        let screen = eye
+            .iter()
+            .map(|p| [p[0] + 0.1 * rng.next_f64(), -p[1] + 0.1 * rng.next_f64()])
+            .collect();
+        (eye, screen)
+    }
+
+    /// The level-parallel order is a valid MPVO order, does not depend on the number of
+    /// threads or on which levels run in parallel, and breaks the same visibility cycles as the
+    /// serial FIFO sort (the cells placed before each break are the same set, whatever order a
+    /// Kahn sort takes them in).
+    #[test]
+    fn parallel_mpvo_is_valid_and_independent_of_threads() {
+        let (nodes, tets) = kuhn_box([9, 8, 7], [1.0; 3], 0.12, 3);
+        let mesh = TetMesh::new(nodes, tets).unwrap();
+        let pools = [1, 2, 3].map(|t| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(t)
+                .build()
+                .unwrap()
+        });
+        for (k, scramble) in [(0u64, false), (1, false), (2, true), (3, true)] {
+            let r =
+                crate::scene::Affine::rotation([1.0, 0.4 * k as f64, 0.3], 17.0 + 40.0 * k as f64)
+                    .unwrap();
+            let (eye_nodes, screen) = if scramble {
+                scrambled(&mesh, k)
+            } else {
+                let eye: Vec<[f64; 3]> = mesh
+                    .nodes()
+                    .iter()
+                    .map(|&p| {
+                        let q = r.apply([p[0] - 0.5, p[1] - 0.5, p[2] - 0.5]);
+                        [q[0], q[1], q[2] - 4.0]
+                    })
+                    .collect();
+                let screen = eye.iter().map(|p| [p[0], -p[1]]).collect();
+                (eye, screen)
+            };
+            let input = SortInput {
+                mesh: &mesh,
+                eye_nodes: &eye_nodes,
+                screen: &screen,
+                perspective: false,
+                mirrored: false,
+            };
+            let serial = mpvo_serial(&input);
+            let reference = levels(&input, 1);
+            if scramble {
+                assert!(serial.cycle_cells > 0, "the scrambled view has cycles");
+            } else {
+                assert_eq!(serial.cycle_cells, 0);
+                assert_valid(&input, &reference.back_to_front);
+            }
+            assert_eq!(reference.cycle_cells, serial.cycle_cells);
+            let mut seen = vec![false; mesh.tet_count()];
+            for &c in &reference.back_to_front {
+                assert!(!seen[c as usize], "cell {c} placed twice");
+                seen[c as usize] = true;
+            }
+            assert!(seen.iter().all(|&s| s), "every cell placed");
+            for pool in &pools {
+                for parallel_level in [1, 64, usize::MAX] {
+                    let o = pool.install(|| levels(&input, parallel_level));
+                    assert_eq!(o.cycle_cells, reference.cycle_cells);
+                    if parallel_level == 1 {
+                        assert_eq!(o.back_to_front, reference.back_to_front);
+                    }
+                }
+                let o = pool.install(|| mpvo(&input));
+                assert_eq!(
+                    o,
+                    pool.install(|| mpvo(&input)),
+                    "the same order every time"
+                );
             }
         }
     }
