@@ -254,19 +254,26 @@ fn levels(input: &SortInput, parallel_level: usize) -> Order {
         .collect();
     let mut order = Vec::with_capacity(n);
     let mut cycle_cells = 0;
+    let parallel = rayon::current_num_threads() > 1;
     loop {
         while !frontier.is_empty() {
             order.extend_from_slice(&frontier);
             frontier = if frontier.len() < parallel_level {
                 let mut next = Vec::new();
-                release(&frontier, nbs, &state, &mut next);
+                release::<false>(&frontier, nbs, &state, &mut next);
+                next
+            } else if !parallel {
+                // One thread: the same successors, put in the same (cell) order.
+                let mut next = Vec::new();
+                release::<false>(&frontier, nbs, &state, &mut next);
+                next.sort_unstable();
                 next
             } else {
                 let mut next: Vec<u32> = frontier
                     .par_chunks(LEVEL_CHUNK)
                     .flat_map_iter(|chunk| {
                         let mut next = Vec::new();
-                        release(chunk, nbs, &state, &mut next);
+                        release::<true>(chunk, nbs, &state, &mut next);
                         next
                     })
                     .collect();
@@ -305,9 +312,19 @@ const LEVEL_CHUNK: usize = 1024;
 
 /// Places the cells of `level`: each neighbour in front of one loses one waiting neighbour
 /// behind it, and one that has none left (and was not forced out of a cycle) is pushed to
-/// `next` — by exactly one caller, as the count's last decrement and the queued bit are one
-/// atomic update.
-fn release(level: &[u32], nbs: &[[u32; 4]], state: &[AtomicU8], next: &mut Vec<u32>) {
+/// `next`. With `SHARED` (other threads release other parts of the level) by exactly one
+/// caller, as the count's last decrement and the queued bit are one atomic update; without,
+/// the caller is alone and plain loads and stores do.
+fn release<const SHARED: bool>(
+    level: &[u32],
+    nbs: &[[u32; 4]],
+    state: &[AtomicU8],
+    next: &mut Vec<u32>,
+) {
+    let placed = |s: u8| {
+        let s = if behind_count(s) > 0 { s - BEHIND } else { s };
+        if behind_count(s) == 0 { s | QUEUED } else { s }
+    };
     for &c in level {
         let front = state[c as usize].load(Relaxed) & 0xF;
         for f in 0..4 {
@@ -315,14 +332,17 @@ fn release(level: &[u32], nbs: &[[u32; 4]], state: &[AtomicU8], next: &mut Vec<u
                 continue;
             }
             let m = nbs[c as usize][f];
-            let updated = state[m as usize].fetch_update(Relaxed, Relaxed, |s| {
-                let s = if behind_count(s) > 0 { s - BEHIND } else { s };
-                Some(if behind_count(s) == 0 { s | QUEUED } else { s })
-            });
-            if let Ok(old) = updated
-                && old & QUEUED == 0
-                && behind_count(old) <= 1
-            {
+            let cell = &state[m as usize];
+            let old = if SHARED {
+                match cell.fetch_update(Relaxed, Relaxed, |s| Some(placed(s))) {
+                    Ok(old) | Err(old) => old,
+                }
+            } else {
+                let old = cell.load(Relaxed);
+                cell.store(placed(old), Relaxed);
+                old
+            };
+            if old & QUEUED == 0 && behind_count(old) <= 1 {
                 next.push(m);
             }
         }
