@@ -146,6 +146,9 @@ impl Session {
         // Bound on every rank's piece: the maps may fit one and not another.
         self.agree(bound.as_ref().map(|_| ()).map_err(String::clone))?;
         let (mapping, w) = bound?;
+        if self.is_distributed() {
+            Self::distributable(&self.settings.method).map_err(|e| format!("{command}: {e}"))?;
+        }
         let ranked = match &self.ranks {
             Ranks::One => Ranked::One,
             Ranks::Comm(c) => Ranked::Comm(Arc::clone(c)),
