@@ -550,3 +550,27 @@ fn pieces_with_other_arrays_are_every_ranks_error() {
         assert!(s.volume().is_none());
     }
 }
+
+/// The legend of a CONSTANT colormap spans the field's data range over every rank's cells
+/// (combined at `volume`), so rank 0 draws one process's legend although it holds one piece.
+#[test]
+fn the_legend_spans_the_whole_grids_data_range() {
+    use vorang::legend::Place;
+    use vorang::mapping::ColorMap;
+    let path = data("mpi/box_p5.pvtu");
+    let shot = |ranks: Option<usize>| {
+        let mut s = session(&path, ranks);
+        s.set_colormap(ColorMap::default_map()).unwrap();
+        s.set_image_size(240, 160).unwrap();
+        s.set_legend(Some(Place::Right));
+        image(&mut s, Order::BackToFront).unwrap()
+    };
+    let whole = shot(None);
+    for ranks in [2, 5] {
+        let (differ, most) = ulps(&whole, &shot(Some(ranks)));
+        assert!(
+            most <= 1,
+            "{ranks} ranks: {differ} channels by up to {most} ulps"
+        );
+    }
+}

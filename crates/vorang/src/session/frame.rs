@@ -279,7 +279,8 @@ impl Session {
             )));
         }
         if let Some(place) = self.legend {
-            match ColorScale::of_map(&self.colormap, &prepared.volume) {
+            let ranges = self.ranked_ranges.as_deref();
+            match ColorScale::of_map_over(&self.colormap, &prepared.volume, ranges) {
                 Ok(scale) => {
                     if !legend::draw(&mut fb, place, &scale) {
                         notices.push(Notice::Warning(format!(

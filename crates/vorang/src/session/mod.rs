@@ -158,6 +158,9 @@ pub struct Session {
     /// A distributed session's time series whose steps are `.pvtu` grids: the steps, and the
     /// one the ranks show (each rank holds its share of it).
     ranked_steps: Option<(Arc<crate::formats::collection::Series>, usize)>,
+    /// A distributed session's fields' data ranges over every rank's cells (the legend, the
+    /// preset maps).
+    ranked_ranges: Option<Arc<crate::formats::collection::FieldRanges>>,
     /// `label FORMAT`: the step's time printed into every image.
     label: Option<String>,
     /// `backend`: which renders the frames.
@@ -216,6 +219,7 @@ impl Session {
             movie_elsewhere: None,
             series: None,
             ranked_steps: None,
+            ranked_ranges: None,
             label: None,
             backend: Backend::Cpu,
         }
@@ -332,6 +336,7 @@ impl Session {
         self.pieces.clear();
         self.series = None;
         self.ranked_steps = None;
+        self.ranked_ranges = None;
         self.colormap = ColorMap::default_map();
         self.alphamap = AlphaMap::default_map();
         self.view = View::default();
@@ -440,7 +445,6 @@ impl Session {
         command: &str,
         preset: &str,
     ) -> Result<Option<(f64, Notice)>, String> {
-        self.whole_volume_only(command)?;
         let vol = self.need_volume(command)?;
         let size = vol.mesh.bbox().size();
         let diagonal = size.iter().map(|v| v * v).sum::<f64>().sqrt();

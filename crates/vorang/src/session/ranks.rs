@@ -17,7 +17,7 @@ use std::sync::Arc;
 use super::{Notice, Session, fields, warnings};
 use crate::distributed::{self, Comm, Threads};
 use crate::error::Warning;
-use crate::formats::collection::{Kind, Series};
+use crate::formats::collection::{FieldRanges, Kind, Series};
 use crate::volume::Volume;
 
 /// A rank's share of a volume: its piece, the warnings, and with virtual ranks every rank's
@@ -202,6 +202,7 @@ impl Session {
         notices.extend(self.set_volume(vol));
         self.pieces = pieces;
         self.ranked_steps = steps.map(|s| (Arc::new(s), 0));
+        self.ranked_ranges = Some(Arc::new(self.agreed_ranges()?));
         Ok(Some((summary, notices)))
     }
 
@@ -272,8 +273,43 @@ impl Session {
                 return Err(format!("timestep {index}: {e}"));
             }
             self.ranked_steps = Some((series, index));
+            self.ranked_ranges = Some(Arc::new(self.agreed_ranges()?));
             Ok(warnings(w))
         }))
+    }
+
+    /// Every field's data range per component over every rank's cells (each rank samples
+    /// its cells as [`Volume::field_range`] does; the minima and maxima combine exactly).
+    fn agreed_ranges(&self) -> Result<FieldRanges, String> {
+        let vol = self.volume.clone().ok_or("no volume loaded")?;
+        let components: Vec<usize> = vol.data.fields.iter().map(|f| f.components()).collect();
+        let width = components.iter().sum::<usize>() * 2;
+        let local = |piece: &Volume| {
+            let mut out = Vec::with_capacity(width);
+            for (i, &k) in components.iter().enumerate() {
+                let r = piece.field_range(i).unwrap_or_default();
+                for c in 0..k {
+                    let (lo, hi) = r
+                        .get(c)
+                        .copied()
+                        .unwrap_or((f64::INFINITY, f64::NEG_INFINITY));
+                    out.extend([lo, -hi]);
+                }
+            }
+            Ok(out)
+        };
+        let all = self.min_over_pieces(local)?;
+        let mut at = 0;
+        Ok(components
+            .iter()
+            .map(|&k| {
+                let r: Vec<(f64, f64)> = (0..k)
+                    .map(|c| (all[at + 2 * c], -all[at + 2 * c + 1]))
+                    .collect();
+                at += 2 * k;
+                Some(r)
+            })
+            .collect())
     }
 
     /// The distributed time series' step shown and its time.

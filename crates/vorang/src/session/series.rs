@@ -82,7 +82,8 @@ impl Session {
         vol: &crate::volume::Volume,
         i: usize,
     ) -> Option<Vec<(f64, f64)>> {
-        match self.series.as_ref().and_then(|s| s.ranges.as_ref()) {
+        let ranges = self.ranked_ranges.as_ref();
+        match ranges.or(self.series.as_ref().and_then(|s| s.ranges.as_ref())) {
             Some(ranges) => ranges.get(i).cloned().flatten(),
             None => vol.field_range(i),
         }
