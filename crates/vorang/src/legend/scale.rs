@@ -44,7 +44,7 @@ impl ColorScale {
     pub fn of_map_over(
         map: &ColorMap,
         vol: &Volume,
-        ranges: Option<&crate::formats::collection::FieldRanges>,
+        ranges: Option<&[Option<Vec<(f64, f64)>>]>,
     ) -> Result<ColorScale, String> {
         let [line] = map.lines.as_slice() else {
             return Err(format!(

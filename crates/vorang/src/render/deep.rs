@@ -150,6 +150,7 @@ pub fn render_runs(
         first_non_finite: None,
         overlap_pixels: 0,
         overlap_cells: Vec::new(),
+        ranks: Vec::new(),
         timing: Timing {
             setup,
             sort: sort_time,

@@ -279,7 +279,7 @@ impl Session {
             )));
         }
         if let Some(place) = self.legend {
-            let ranges = self.ranked_ranges.as_deref();
+            let ranges = self.ranked_ranges.as_deref().map(Vec::as_slice);
             match ColorScale::of_map_over(&self.colormap, &prepared.volume, ranges) {
                 Ok(scale) => {
                     if !legend::draw(&mut fb, place, &scale) {
@@ -433,6 +433,26 @@ pub fn timing_line(stats: &Stats) -> String {
         crate::render::span::kernel().name(),
         rayon::current_num_threads()
     ) + &composite_part(t.composite)
+        + &ranks_part(&stats.ranks)
+}
+
+/// A distributed frame's load per rank, for the timing line (nothing in one process).
+fn ranks_part(ranks: &[crate::render::RankLoad]) -> String {
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    ranks
+        .iter()
+        .enumerate()
+        .map(|(r, l)| {
+            format!(
+                "; rank {r}: render {:.1} ms, {} ray segments, {} runs, {} bytes sent, composite {:.1} ms",
+                ms(l.render),
+                l.fragments,
+                l.runs,
+                l.bytes_sent,
+                ms(l.composite)
+            )
+        })
+        .collect()
 }
 
 /// A distributed frame's compositing time, for the timing line (nothing in one process).

@@ -5,8 +5,11 @@
 //! The session stands between a script and the collective steps: `volume` reads this rank's
 //! share; a command whose outcome can depend on the rank's cells (binding the maps, the grid
 //! lines' field, writing on rank 0) ends in an agreement, so that an error on any rank is every
-//! rank's error; commands that would need the whole volume on one rank (`data`, `save_volume`,
-//! `view_all`, time steps, …) say so.
+//! rank's error. What depends on the whole volume is combined over the ranks: `view_all` from
+//! every rank's extremes, the fields' data ranges (legend, preset maps) at `volume`, and a time
+//! series of `.pvtu` steps is read step by step, each rank its share. Commands that would need
+//! the whole volume on one rank (`data`, `save_volume`, `save_subset`) say so, and so do the
+//! methods ranks cannot render as one process does (`test`).
 //!
 //! [`Ranks::Virtual`] runs the same steps with ranks as threads of this process, each with its
 //! own piece: `vorang --virtual-ranks N` renders what `mpirun -np N vorang` renders.
