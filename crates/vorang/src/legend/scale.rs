@@ -3,6 +3,9 @@
 use crate::mapping::{ColorMap, Part, ScalarColor, Table};
 use crate::volume::Volume;
 
+/// A field's data range per component (`None`: the field has none).
+pub type FieldRange = Option<Vec<(f64, f64)>>;
+
 /// The colour transfer function over `[lo, hi]`, as the legend shows it.
 #[derive(Debug, Clone)]
 pub struct ColorScale {
@@ -44,7 +47,7 @@ impl ColorScale {
     pub fn of_map_over(
         map: &ColorMap,
         vol: &Volume,
-        ranges: Option<&[Option<Vec<(f64, f64)>>]>,
+        ranges: Option<&[FieldRange]>,
     ) -> Result<ColorScale, String> {
         let [line] = map.lines.as_slice() else {
             return Err(format!(
