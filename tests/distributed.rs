@@ -500,6 +500,23 @@ fn ranks_refuse_test_and_an_opaque_render_ftb() {
     s.set_method(test);
     let e = image(&mut s, Order::BackToFront).unwrap_err();
     assert!(e.contains("the method test is not available"), "{e}");
+    // One rank holds every cell: `test` is one process's image.
+    let (mut s, mut one) = (session(&path, Some(1)), session(&path, None));
+    s.check_method(&test).unwrap();
+    s.set_method(test);
+    one.set_method(test);
+    for order in [Order::BackToFront, Order::FrontToBack] {
+        let (a, b) = (
+            image(&mut s, order).unwrap(),
+            image(&mut one, order).unwrap(),
+        );
+        assert!(b.max_channel() > 0.01);
+        let (differ, most) = ulps(&a, &b);
+        assert!(
+            most <= 1,
+            "test on one rank: {differ} channels by up to {most} ulps"
+        );
+    }
     let a = "# VoRANG Alphamap 1.0\nSIMPLE_ABSORBER @1\n@1\n400 0\n400 5\n";
     let mut s = session(&path, Some(2));
     s.set_alphamap(

@@ -367,7 +367,8 @@ fn pieces_with_other_arrays_stop_every_rank() {
 }
 
 /// What ranks cannot render as one process does is refused on every rank, with the reason:
-/// the method `test`, and `render_ftb` where a pixel turns opaque (one process stops there).
+/// the method `test` on more than one rank, and `render_ftb` where a pixel turns opaque (one
+/// process stops there).
 #[test]
 fn what_ranks_cannot_render_is_refused() {
     let dir = tempfile::tempdir().unwrap();
@@ -384,6 +385,18 @@ fn what_ranks_cannot_render_is_refused() {
         "volume box.hm\nimagesize 32 24\noutput f.pfm\nrender_btf\n",
         "the method test is not available",
         d,
+    );
+    // One rank holds every cell: the default `test` renders as in one process.
+    std::fs::write(
+        d.join("one.tcl"),
+        "volume box.hm\nimagesize 32 24\noutput one.pfm\nrender_btf\n",
+    )
+    .unwrap();
+    let out = mpirun(1, "one.tcl", d);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
     );
     std::fs::write(
         d.join("dense.map"),

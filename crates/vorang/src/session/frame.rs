@@ -147,7 +147,8 @@ impl Session {
         self.agree(bound.as_ref().map(|_| ()).map_err(String::clone))?;
         let (mapping, w) = bound?;
         if self.is_distributed() {
-            Self::distributable(&self.settings.method).map_err(|e| format!("{command}: {e}"))?;
+            self.distributable(&self.settings.method)
+                .map_err(|e| format!("{command}: {e}"))?;
         }
         let ranked = match &self.ranks {
             Ranks::One => Ranked::One,

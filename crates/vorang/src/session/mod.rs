@@ -643,7 +643,8 @@ impl Session {
     /// cannot is refused at the command, and again at every render).
     pub fn check_method(&self, method: &Method) -> Result<(), String> {
         if self.is_distributed() {
-            Self::distributable(method).map_err(|e| format!("method: {e}"))?;
+            self.distributable(method)
+                .map_err(|e| format!("method: {e}"))?;
         }
         Ok(())
     }

@@ -149,12 +149,15 @@ impl Session {
         }
     }
 
-    /// Whether ranks can render `method` as one process does: not `test`, which draws each
-    /// face once per ray by remembering the cell before it at the pixel — at a face between
-    /// two ranks' cells that cell is on the other rank, so both would draw the face.
-    pub(super) fn distributable(method: &crate::render::Method) -> Result<(), String> {
-        if let crate::render::Method::Test(_) = method {
-            return Err("the method test is not available in a distributed session: it draws each face once per ray by remembering the cell before it at the pixel, and at a face between two ranks' cells that cell is on the other rank (docs/distributed.md); set 'method exact …', 'interpolateCoeff …' or 'interpolateColor …'".into());
+    /// Whether the ranks can render `method` as one process does: not `test` on more than one
+    /// rank, which draws each face once per ray by remembering the cell before it at the pixel
+    /// — at a face between two ranks' cells that cell is on the other rank, so both would draw
+    /// the face. (One rank holds every cell, as one process does.)
+    pub(super) fn distributable(&self, method: &crate::render::Method) -> Result<(), String> {
+        if let crate::render::Method::Test(_) = method
+            && self.rank().1 > 1
+        {
+            return Err("the method test is not available on more than one rank: it draws each face once per ray by remembering the cell before it at the pixel, and at a face between two ranks' cells that cell is on the other rank (docs/distributed.md); set 'method exact …', 'interpolateCoeff …' or 'interpolateColor …'".into());
         }
         Ok(())
     }
