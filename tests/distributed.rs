@@ -5,9 +5,10 @@
 //! per channel (a run of one process that crosses a piece boundary is two runs there, composed
 //! in another order of the same products). Partitions: contiguous, scattered cell by cell, one
 //! empty piece, more ranks than pieces; views: default, rotated, mirrored, axis-aligned,
-//! perspective from outside and from inside the volume. (`test`, which draws each face once per
-//! ray by remembering the previous cell of the pixel, draws a face between two ranks' cells
-//! once per rank: docs/distributed.md.)
+//! perspective from outside and from inside the volume. Also: VTK's own pieces (ghost layers,
+//! `GlobalNodeIds`) on 1 … 5 ranks, `view_all` and time steps on ranks, and what ranks refuse
+//! (`test`, which draws each face once per ray by remembering the previous cell of the pixel,
+//! and an opaque `render_ftb`: docs/distributed.md).
 
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -326,4 +327,267 @@ fn a_missing_or_truncated_piece_is_every_ranks_error() {
     s.set_ranks(Ranks::Virtual(3));
     let e = s.load_volume(&path).unwrap_err();
     assert!(e.contains("g_2.vtu: no such file"), "{e}");
+}
+
+/// A file of tests/data (VTK's pieces: tests/data/mpi/generate.py).
+fn data(path: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(path)
+}
+
+/// A session of `ranks` virtual ranks (`None`: one process) with `path` loaded, the test
+/// maps and `exact`.
+fn session(path: &std::path::Path, ranks: Option<usize>) -> vorang::session::Session {
+    use vorang::session::{Ranks, Session};
+    let mut s = Session::new();
+    if let Some(n) = ranks {
+        s.set_ranks(Ranks::Virtual(n));
+    }
+    s.load_volume(path).unwrap();
+    let (c, a) = maps();
+    s.set_colormap(c).unwrap();
+    s.set_alphamap(a).unwrap();
+    s.set_method(Method::parse(&["exact", "linear", "0", "1"]).unwrap());
+    s.set_image_size(64, 48).unwrap();
+    s
+}
+
+fn image(s: &mut vorang::session::Session, order: Order) -> Result<Framebuffer, String> {
+    use vorang::session::Hooks;
+    let cancel = AtomicBool::new(false);
+    let hooks = Hooks {
+        progress: None,
+        tile: None,
+        cancel: &cancel,
+    };
+    s.render_image(order, &hooks).map(|i| i.framebuffer)
+}
+
+/// Pieces written by VTK's vtkXMLPUnstructuredGridWriter — ghost layers, `GlobalNodeIds` —
+/// read by 1 … 5 virtual ranks (contiguous ranges of pieces, and more ranks than pieces) give
+/// the image of the whole grid as VTK wrote it in one file, rendered by one process.
+#[test]
+fn vtk_pieces_on_one_to_five_ranks_give_the_whole_grids_image() {
+    let views = views();
+    for (vname, view) in [&views[0], &views[2], &views[5]] {
+        let whole = session_image(&data("mpi/box.vtu"), None, view);
+        assert!(whole.max_channel() > 0.01, "{vname}");
+        for file in ["mpi/box_g3.pvtu", "mpi/box_p5.pvtu"] {
+            for ranks in 1..=5 {
+                let fb = session_image(&data(file), Some(ranks), view);
+                let (differ, most) = ulps(&whole, &fb);
+                assert!(
+                    most <= 1,
+                    "{file}, {vname}, {ranks} ranks: {differ} channels differ by up to {most} ulps"
+                );
+            }
+        }
+    }
+}
+
+/// A rank's piece of VTK's pieces numbers its nodes by their `GlobalNodeIds` (the key every
+/// rank shares, so that a face between two ranks gives both the same depths): ascending ids.
+#[test]
+fn a_ranks_nodes_follow_global_node_ids() {
+    use vorang::distributed::load::load_share;
+    for (file, ranks) in [
+        ("mpi/box_g3.pvtu", 2),
+        ("mpi/box_g3.pvtu", 5),
+        ("mpi/box_p5.pvtu", 3),
+    ] {
+        let mut cells = 0;
+        for r in 0..ranks {
+            let (vol, _) = load_share(&data(file), r, ranks).unwrap();
+            assert!(
+                matches!(NodeKey::of(&vol, false), NodeKey::Ids(_)),
+                "{file}"
+            );
+            let f = vol
+                .data
+                .fields
+                .iter()
+                .find(|f| f.name.as_deref() == Some("GlobalNodeIds"))
+                .expect("GlobalNodeIds is a field");
+            let raw = &vol.data.raw[f.sources[0]];
+            let ids: Vec<f64> = (0..raw.elements()).map(|n| raw.value(n, 0)).collect();
+            assert_eq!(ids.len(), vol.mesh.node_count());
+            assert!(
+                ids.windows(2).all(|w| w[0] < w[1]),
+                "{file}, rank {r} of {ranks}: nodes not in id order"
+            );
+            cells += vol.mesh.tet_count();
+        }
+        // Ghost cells dropped: every cell on exactly one rank.
+        assert_eq!(cells, 1296, "{file} on {ranks} ranks");
+    }
+}
+
+/// `view_all` on ranks frames the whole volume from every rank's nodes: the camera of one
+/// process, to the bit (orthographic and perspective).
+#[test]
+fn view_all_on_ranks_is_one_process_camera() {
+    use vorang::scene::{Camera, TransformOp};
+    for file in ["mpi/box_g3.pvtu", "mpi/box_p5.pvtu"] {
+        for persp in [false, true] {
+            let camera = |s: &mut vorang::session::Session| {
+                s.set_view(View {
+                    transforms: vec![TransformOp::Rotate {
+                        axis: [1.0, 0.6, 0.2],
+                        degrees: 33.0,
+                    }],
+                    ..View::default()
+                });
+                if persp {
+                    s.set_camera(Camera::Persp {
+                        fovy: 40.0,
+                        aspect: 4.0 / 3.0,
+                        near: 0.1,
+                        far: 10.0,
+                    })
+                    .unwrap();
+                }
+                s.view_all().unwrap();
+                s.view().clone()
+            };
+            let one = camera(&mut session(&data(file), None));
+            for ranks in [2, 3, 5] {
+                let got = camera(&mut session(&data(file), Some(ranks)));
+                assert_eq!(
+                    format!("{got:?}"),
+                    format!("{one:?}"),
+                    "{file}, {ranks} ranks"
+                );
+            }
+        }
+    }
+}
+
+/// A `.pvd` whose steps are `.pvtu` grids: ranks read their share of each step; `timestep`
+/// keeps the scene and gives one process's image of that step.
+#[test]
+fn time_steps_of_pvtu_grids_on_ranks() {
+    let path = data("series/flow_p.pvd");
+    let mut one = session(&path, None);
+    one.set_timestep(2).unwrap();
+    let whole = image(&mut one, Order::BackToFront).unwrap();
+    assert!(whole.max_channel() > 0.01);
+    for ranks in [1, 2, 3] {
+        let mut s = session(&path, Some(ranks));
+        assert_eq!(s.timesteps(), vec![0.0, 0.5, 1.25]);
+        s.set_timestep(2).unwrap();
+        assert_eq!(s.timestep(), Some((2, 1.25)));
+        let fb = image(&mut s, Order::BackToFront).unwrap();
+        let (differ, most) = ulps(&whole, &fb);
+        assert!(
+            most <= 1,
+            "{ranks} ranks: {differ} channels by up to {most} ulps"
+        );
+        let e = s.set_timestep(3).unwrap_err();
+        assert!(e.contains("out of range"), "{e}");
+    }
+}
+
+/// What ranks cannot render as one process does is refused: the method `test`, and
+/// `render_ftb` where a pixel turns opaque (one process stops compositing there).
+#[test]
+fn ranks_refuse_test_and_an_opaque_render_ftb() {
+    let path = data("mpi/box_p5.pvtu");
+    let mut s = session(&path, Some(2));
+    let test = Method::parse(&["test", "0.5"]).unwrap();
+    let e = s.check_method(&test).unwrap_err();
+    assert!(e.contains("the method test is not available"), "{e}");
+    s.set_method(test);
+    let e = image(&mut s, Order::BackToFront).unwrap_err();
+    assert!(e.contains("the method test is not available"), "{e}");
+    // One rank holds every cell: `test` is one process's image.
+    let (mut s, mut one) = (session(&path, Some(1)), session(&path, None));
+    s.check_method(&test).unwrap();
+    s.set_method(test);
+    one.set_method(test);
+    for order in [Order::BackToFront, Order::FrontToBack] {
+        let (a, b) = (
+            image(&mut s, order).unwrap(),
+            image(&mut one, order).unwrap(),
+        );
+        assert!(b.max_channel() > 0.01);
+        let (differ, most) = ulps(&a, &b);
+        assert!(
+            most <= 1,
+            "test on one rank: {differ} channels by up to {most} ulps"
+        );
+    }
+    let a = "# VoRANG Alphamap 1.0\nSIMPLE_ABSORBER @1\n@1\n400 0\n400 5\n";
+    let mut s = session(&path, Some(2));
+    s.set_alphamap(
+        parse_map::<dyn AlphaShading>(a.as_bytes(), "a.map")
+            .unwrap()
+            .0,
+    )
+    .unwrap();
+    image(&mut s, Order::BackToFront).unwrap();
+    let e = image(&mut s, Order::FrontToBack).unwrap_err();
+    assert!(e.contains("is opaque"), "{e}");
+    // Not opaque: render_ftb on ranks is one process's image.
+    let mut s = session(&path, Some(3));
+    let mut one = session(&path, None);
+    let (a, b) = (
+        image(&mut s, Order::FrontToBack).unwrap(),
+        image(&mut one, Order::FrontToBack).unwrap(),
+    );
+    let (differ, most) = ulps(&a, &b);
+    assert!(most <= 1, "{differ} channels by up to {most} ulps");
+}
+
+/// Pieces whose arrays differ stop the volume on every virtual rank count.
+#[test]
+fn pieces_with_other_arrays_are_every_ranks_error() {
+    use vorang::session::{Ranks, Session};
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    std::fs::create_dir_all(d.join("box_p5")).unwrap();
+    for k in 0..5 {
+        let name = format!("box_p5/box_p5_{k}.vtu");
+        let mut bytes = std::fs::read(data("mpi").join(&name)).unwrap();
+        if k == 0 {
+            let at = String::from_utf8_lossy(&bytes).find("Name=\"T\"").unwrap();
+            bytes[at + 6] = b'U';
+        }
+        std::fs::write(d.join(&name), bytes).unwrap();
+    }
+    std::fs::copy(data("mpi/box_p5.pvtu"), d.join("box_p5.pvtu")).unwrap();
+    for ranks in 1..=5 {
+        let mut s = Session::new();
+        s.set_ranks(Ranks::Virtual(ranks));
+        let e = s.load_volume(&d.join("box_p5.pvtu")).unwrap_err();
+        assert!(
+            e.contains("the pieces' arrays disagree"),
+            "{ranks} ranks: {e}"
+        );
+        assert!(s.volume().is_none());
+    }
+}
+
+/// The legend of a CONSTANT colormap spans the field's data range over every rank's cells
+/// (combined at `volume`), so rank 0 draws one process's legend although it holds one piece.
+#[test]
+fn the_legend_spans_the_whole_grids_data_range() {
+    use vorang::legend::Place;
+    use vorang::mapping::ColorMap;
+    let path = data("mpi/box_p5.pvtu");
+    let shot = |ranks: Option<usize>| {
+        let mut s = session(&path, ranks);
+        s.set_colormap(ColorMap::default_map()).unwrap();
+        s.set_image_size(240, 160).unwrap();
+        s.set_legend(Some(Place::Right));
+        image(&mut s, Order::BackToFront).unwrap()
+    };
+    let whole = shot(None);
+    for ranks in [2, 5] {
+        let (differ, most) = ulps(&whole, &shot(Some(ranks)));
+        assert!(
+            most <= 1,
+            "{ranks} ranks: {differ} channels by up to {most} ulps"
+        );
+    }
 }

@@ -1,14 +1,21 @@
 //! `mpirun -np N vorang script.tcl` (docs/distributed.md), for builds with the `mpi` feature
-//! (`cargo test --features mpi --test mpi`; Open MPI's `mpirun` on the PATH): for N = 1 … 4
-//! the images equal those of `vorang --virtual-ranks N` bit for bit — a single file split by
-//! Morton order, `.pvtu` grids of contiguous and scattered pieces and with an empty piece, views
-//! from outside, mirrored and from inside — and a missing piece, a truncated piece or a rank
-//! whose script fails stop every rank with that message and a non-zero exit, never a hang
-//! (every run is under a time limit).
+//! (`cargo test --features mpi --test mpi`; Open MPI's `mpirun` on the PATH). For N = 1 … 5
+//! one script per N renders every input from five views; its images equal those of
+//! `vorang --virtual-ranks N` bit for bit, and those of the plain program (one process, the
+//! whole mesh) to within one `f32` ulp per channel. Inputs: a HyperMesh file every rank reads
+//! and splits by Morton order; `.pvtu` grids of contiguous pieces, of pieces scattered cell by
+//! cell, with an empty piece; VTK's own pieces (vtkXMLPUnstructuredGridWriter,
+//! tests/data/mpi) with ghost layers and `GlobalNodeIds`, 3 pieces (so N = 4, 5 have more
+//! ranks than pieces) and 5 pieces; and a `.pvd` time series of `.pvtu` steps. Views: the
+//! default (axis-aligned), rotated and framed by `view_all`, mirrored (`render_ftb`), the eye
+//! inside the volume, perspective from outside framed by `view_all`. A missing piece, a
+//! truncated piece, pieces with other arrays, a rank whose script fails before, while or after
+//! the others render, a map that does not fit, and what ranks refuse stop every rank with that
+//! message, printed once, and a non-zero exit — never a hang (every run is under a time limit).
 
 #![cfg(feature = "mpi")]
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::process::{Command, Output, Stdio};
 use std::time::{Duration, Instant};
 
@@ -77,8 +84,8 @@ const MAPS: [(&str, &str); 2] = [
     ),
 ];
 
-/// The inputs: a HyperMesh file (every rank reads it, keeps its Morton part) and `.pvtu` grids.
-fn inputs(dir: &Path) -> Vec<String> {
+/// The inputs (as the ranks read them), each with the file one process renders whole.
+fn inputs(dir: &Path) -> Vec<(String, String)> {
     for (name, text) in MAPS {
         std::fs::write(dir.join(name), text).unwrap();
     }
@@ -99,72 +106,163 @@ fn inputs(dir: &Path) -> Vec<String> {
     write_pvtu(&vol, &dir.join("contiguous.pvtu"), &contiguous).unwrap();
     write_pvtu(&vol, &dir.join("scattered.pvtu"), &scattered).unwrap();
     write_pvtu(&vol, &dir.join("empty.pvtu"), &empty).unwrap();
-    ["box.hm", "contiguous.pvtu", "scattered.pvtu", "empty.pvtu"]
-        .map(String::from)
-        .to_vec()
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data");
+    let vtk = |f: &str| data.join("mpi").join(f).display().to_string();
+    let mut out: Vec<(String, String)> =
+        ["box.hm", "contiguous.pvtu", "scattered.pvtu", "empty.pvtu"]
+            .iter()
+            .map(|f| (f.to_string(), "box.hm".to_string()))
+            .collect();
+    out.push((vtk("box_g3.pvtu"), vtk("box.vtu")));
+    out.push((vtk("box_p5.pvtu"), vtk("box.vtu")));
+    out
 }
 
-/// A script rendering `input` from four views into `out.NNNN.exr`.
-fn views_script(input: &str, out: &str) -> String {
+/// The time series: VTK's `.pvtu` steps with ghost cells, listed by a `.pvd`.
+fn series() -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/series/flow_p.pvd")
+        .display()
+        .to_string()
+}
+
+/// Five views of the volume just loaded, into `{out}{k}.NNNN.pfm`.
+fn views(k: usize, out: &str) -> String {
     format!(
-        "volume {input}
-imagesize 96 72
+        "imagesize 80 60
 colormap c.map
 alphamap a.map
 method exact linear 0 1
-output {out}.exr
+output {out}{k}.pfm
 render_btf
 vol_rotate 1 0.6 0.2 33
+view_all
 render_btf
 vol_scale -1 1 1
 render_ftb
 look_at 0.05 -0.1 0.12 0.4 0.2 -1 0 1 0
 persp_camera 70 1.333 0.01 10
 render_btf
+look_at 1.6 1.2 2.5 0 0 0 0 1 0
+persp_camera 40 1.333 0.1 10
+view_all
+render_btf
 "
     )
 }
 
-fn frames(dir: &Path, out: &str) -> Vec<PathBuf> {
-    (1..=4)
-        .map(|k| dir.join(format!("{out}.{k:04}.exr")))
-        .collect()
+/// One script rendering every input (`whole`: the one-process files instead) and two steps
+/// of the time series; returns it and the number of images.
+fn script(inputs: &[(String, String)], whole: bool, out: &str) -> (String, usize) {
+    let mut text = String::new();
+    for (k, (ranks, one)) in inputs.iter().enumerate() {
+        text += &format!("volume {}\n", if whole { one } else { ranks });
+        text += &views(k, out);
+    }
+    let k = inputs.len();
+    text += &format!(
+        "volume {}\nimagesize 80 60\ncolormap c.map\nalphamap a.map\nmethod exact linear 0 1\n\
+         vol_rotate 0.3 1 0.2 25\nview_all\noutput {out}{k}.pfm\nrender_btf\ntimestep 2\nrender_btf\n",
+        series()
+    );
+    (text, inputs.len() * 5 + 2)
 }
 
-#[test]
-fn mpirun_equals_virtual_ranks_bit_for_bit() {
-    let dir = tempfile::tempdir().unwrap();
-    let d = dir.path();
-    for input in inputs(d) {
-        for n in 1..=4 {
-            let (m, v) = (format!("m{n}"), format!("v{n}"));
-            std::fs::write(d.join("m.tcl"), views_script(&input, &m)).unwrap();
-            std::fs::write(d.join("v.tcl"), views_script(&input, &v)).unwrap();
-            let out = mpirun(n, "m.tcl", d);
-            assert!(
-                out.status.success(),
-                "{input}, -np {n}: {}",
-                String::from_utf8_lossy(&out.stderr)
-            );
-            // Only rank 0 prints the per-frame lines.
-            let lines = String::from_utf8_lossy(&out.stdout);
-            assert_eq!(
-                lines.matches(".exr").count(),
-                4,
-                "{input}, -np {n}: {lines}"
-            );
-            let out = virtual_ranks(n, "v.tcl", d);
-            assert!(
-                out.status.success(),
-                "{}",
-                String::from_utf8_lossy(&out.stderr)
-            );
-            for (a, b) in frames(d, &m).iter().zip(frames(d, &v)) {
-                let (a, b) = (std::fs::read(a).unwrap(), std::fs::read(&b).unwrap());
-                assert!(a == b, "{input}, -np {n}: the images differ");
+/// The images a run wrote with file names starting `prefix`, by the rest of their name.
+fn images(dir: &Path, prefix: &str) -> Vec<(String, Vec<u8>)> {
+    let mut out: Vec<(String, Vec<u8>)> = std::fs::read_dir(dir)
+        .unwrap()
+        .filter_map(|e| {
+            let name = e.unwrap().file_name().into_string().unwrap();
+            let rest = name.strip_prefix(prefix)?.to_string();
+            rest.ends_with(".pfm")
+                .then(|| (rest, std::fs::read(dir.join(&name)).unwrap()))
+        })
+        .collect();
+    out.sort();
+    out
+}
+
+/// Channels that differ, and the most `f32` ulps one differs by.
+fn ulps(a: &[u8], b: &[u8]) -> (usize, u32) {
+    let (wa, ha, pa) = vorang::framebuffer::read_pfm(a).unwrap();
+    let (wb, hb, pb) = vorang::framebuffer::read_pfm(b).unwrap();
+    assert_eq!((wa, ha), (wb, hb));
+    let (mut differ, mut most) = (0, 0);
+    for (p, q) in pa.iter().zip(&pb) {
+        for k in 0..3 {
+            if p[k].to_bits() != q[k].to_bits() {
+                differ += 1;
+                let d = if p[k].is_sign_negative() == q[k].is_sign_negative() {
+                    p[k].to_bits().abs_diff(q[k].to_bits())
+                } else {
+                    u32::MAX
+                };
+                most = most.max(d);
             }
         }
     }
+    (differ, most)
+}
+
+#[test]
+fn mpirun_equals_virtual_ranks_and_one_process() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    let inputs = inputs(d);
+    let (plain, count) = script(&inputs, true, "p");
+    std::fs::write(d.join("p.tcl"), plain).unwrap();
+    let mut cmd = Command::new(BIN);
+    cmd.arg("p.tcl");
+    let out = run(cmd, d);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let whole = images(d, "p");
+    assert_eq!(whole.len(), count);
+    for (name, bytes) in &whole {
+        let (_, _, px) = vorang::framebuffer::read_pfm(bytes).unwrap();
+        let most = px.iter().flatten().fold(0.0f32, |m, &v| m.max(v));
+        assert!(most > 0.01, "{name}: nothing to see");
+    }
+    let mut report = Vec::new();
+    for n in 1..=5 {
+        let (m, v) = (format!("m{n}_"), format!("v{n}_"));
+        std::fs::write(d.join("m.tcl"), script(&inputs, false, &m).0).unwrap();
+        std::fs::write(d.join("v.tcl"), script(&inputs, false, &v).0).unwrap();
+        let out = mpirun(n, "m.tcl", d);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "-np {n}: {err}");
+        // Only rank 0 prints the per-frame lines.
+        let lines = String::from_utf8_lossy(&out.stdout);
+        assert_eq!(lines.matches(".pfm").count(), count, "-np {n}: {lines}");
+        let out = virtual_ranks(n, "v.tcl", d);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (mi, vi) = (images(d, &m), images(d, &v));
+        assert_eq!(mi.len(), count, "-np {n}");
+        assert_eq!(vi.len(), count, "--virtual-ranks {n}");
+        let (mut differ, mut most) = (0, 0);
+        for (((name, a), (_, b)), (_, w)) in mi.iter().zip(&vi).zip(&whole) {
+            assert!(a == b, "-np {n}, {name}: mpirun and virtual ranks differ");
+            let (k, u) = ulps(a, w);
+            assert!(
+                u <= 1,
+                "-np {n}, {name}: {k} channels differ from one process by up to {u} ulps"
+            );
+            differ += k;
+            most = most.max(u);
+        }
+        report.push(format!(
+            "-np {n}: {count} images equal --virtual-ranks {n} bit for bit; against one process {differ} channels differ (at most {most} ulp)"
+        ));
+    }
+    eprintln!("{}", report.join("\n"));
 }
 
 /// Runs a failing script on `n` ranks: a non-zero exit, and `message` printed once.
@@ -231,4 +329,81 @@ fn an_error_on_any_rank_stops_every_rank() {
         "has only field 0",
         d,
     );
+    // A rank that fails while the others render: at its second frame of three.
+    let during = format!(
+        "volume box.hm\n{}for {{set i 0}} {{$i < 3}} {{incr i}} {{\n\
+         if {{[rank] == 1 && $i == 1}} {{error \"rank 1 fails at frame 1\"}}\nrender_btf\n}}\n",
+        &render[..render.len() - "render_btf\n".len()]
+    );
+    fails_with(3, &during, "rank 1 fails at frame 1", d);
+}
+
+/// VTK's 5 pieces with the point array `T` of the last piece renamed: one process, and each
+/// rank merging its own pieces, see the pieces' arrays disagree; ranks that each read other
+/// pieces compare their arrays at `volume` — the same message on every rank count.
+#[test]
+fn pieces_with_other_arrays_stop_every_rank() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    inputs(d);
+    let vtk = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/mpi");
+    std::fs::create_dir_all(d.join("box_p5")).unwrap();
+    for k in 0..5 {
+        let name = format!("box_p5/box_p5_{k}.vtu");
+        let mut bytes = std::fs::read(vtk.join(&name)).unwrap();
+        if k == 4 {
+            let text = String::from_utf8_lossy(&bytes).into_owned();
+            let at = text.find("Name=\"T\"").expect("the array T");
+            bytes[at + 6] = b'U';
+        }
+        std::fs::write(d.join(&name), bytes).unwrap();
+    }
+    std::fs::copy(vtk.join("box_p5.pvtu"), d.join("box_p5.pvtu")).unwrap();
+    let script =
+        "volume box_p5.pvtu\nimagesize 32 24\nmethod exact linear 0 1\noutput f.pfm\nrender_btf\n";
+    for n in [1, 2, 3, 5] {
+        fails_with(n, script, "the pieces' arrays disagree", d);
+    }
+}
+
+/// What ranks cannot render as one process does is refused on every rank, with the reason:
+/// the method `test` on more than one rank, and `render_ftb` where a pixel turns opaque (one
+/// process stops there).
+#[test]
+fn what_ranks_cannot_render_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    inputs(d);
+    fails_with(
+        2,
+        "volume box.hm\nmethod test 0.5\n",
+        "the method test is not available",
+        d,
+    );
+    fails_with(
+        3,
+        "volume box.hm\nimagesize 32 24\noutput f.pfm\nrender_btf\n",
+        "the method test is not available",
+        d,
+    );
+    // One rank holds every cell: the default `test` renders as in one process.
+    std::fs::write(
+        d.join("one.tcl"),
+        "volume box.hm\nimagesize 32 24\noutput one.pfm\nrender_btf\n",
+    )
+    .unwrap();
+    let out = mpirun(1, "one.tcl", d);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    std::fs::write(
+        d.join("dense.map"),
+        "# VoRANG Alphamap 1.0\nSIMPLE_ABSORBER @1\n@1\n400 0\n400 1\n",
+    )
+    .unwrap();
+    let opaque = "volume box.hm\nimagesize 32 24\ncolormap c.map\nalphamap dense.map\n\
+                  method exact linear 0 1\noutput f.pfm\nrender_btf\nrender_ftb\n";
+    fails_with(2, opaque, "is opaque", d);
 }

@@ -102,6 +102,8 @@ struct Settled {
     pixels: Vec<[f32; 4]>,
     overlap_pixels: u64,
     most: u64,
+    /// The first pixel one process may have stopped early at (`render_ftb`).
+    stops_early: Option<(usize, usize)>,
 }
 
 /// The owner's step: from the messages of every rank (by sending rank), this rank's tiles
@@ -144,6 +146,12 @@ pub fn settle(
         .zip(&parts)
         .map(|(&t, parts)| settle_tile(deep_rect(t, width, height), parts, resolver))
         .collect();
+    if let Some((x, y)) = settled.iter().find_map(|s| s.stops_early) {
+        return Err(Error::Invalid(format!(
+            "pixel ({x}, {y}) is opaque: one process stops compositing front to back where the transparency falls below {}, at a cell inside one rank's run of cells, which ranks cannot reproduce exactly; render_btf gives the image of all the cells (docs/distributed.md)",
+            crate::render::EARLY_TERMINATION
+        )));
+    }
     let overlap_pixels = settled.iter().map(|s| s.overlap_pixels).sum::<u64>();
     let most = settled.iter().map(|s| s.most).max().unwrap_or(0);
     let n: usize = settled.iter().map(|s| s.pixels.len()).sum();
@@ -170,6 +178,7 @@ fn settle_tile(rect: crate::render::Rect, parts: &[Part], resolver: &Resolver) -
         pixels: Vec::with_capacity(n),
         overlap_pixels: 0,
         most: 0,
+        stops_early: None,
     };
     let w = rect.x1 - rect.x0;
     for slot in 0..n {
@@ -193,8 +202,11 @@ fn settle_tile(rect: crate::render::Rect, parts: &[Part], resolver: &Resolver) -
         }
         out.most = out.most.max(runs.len() as u64);
         let (x, y) = (rect.x0 + slot % w, rect.y0 + slot / w);
-        let (px, overlapped) = resolver.pixel(x, y, &mut runs);
+        let (px, overlapped, early) = resolver.pixel(x, y, &mut runs);
         out.overlap_pixels += u64::from(overlapped);
+        if early && out.stops_early.is_none() {
+            out.stops_early = Some((x, y));
+        }
         out.pixels.push(px);
     }
     out

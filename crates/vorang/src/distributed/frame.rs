@@ -4,12 +4,12 @@
 //!
 //! The collective steps, in the order every rank takes them: agree that the frame could be set
 //! up, combine the grid lines' depths; agree that the runs were drawn; the all-to-all of the
-//! runs; agree that the pixels were settled; the gather of the pixels; the sums for the
-//! statistics. A rank that fails before one of the agreements still takes it (with its error),
+//! runs; agree that the pixels were settled; the gather of the pixels; the gather of every
+//! rank's statistics and load. A rank that fails before one of the agreements still takes it (with its error),
 //! so every rank leaves at the same step with the same message.
 
 use std::sync::atomic::AtomicBool;
-use std::time::Instant;
+use std::time::{Duration, Instant};
 
 use super::Comm;
 use super::exchange::{assemble, pack, settle};
@@ -17,7 +17,7 @@ use crate::error::Error;
 use crate::framebuffer::{Background, Framebuffer};
 use crate::mapping::Mapping;
 use crate::render::deep::{Resolver, non_finite, render_runs};
-use crate::render::{LineDraw, Settings, Stats};
+use crate::render::{LineDraw, RankLoad, Settings, Stats};
 use crate::scene::View;
 use crate::volume::Volume;
 
@@ -69,7 +69,15 @@ pub fn render_frame(
     let (deep, resolver) = agreed(comm, ready)?;
     let started = Instant::now();
     let (rank, ranks) = (comm.rank(), comm.size());
-    let incoming = comm.all_to_all(pack(deep.tiles, ranks));
+    let runs: u64 = deep.tiles.iter().map(|t| t.stretches.len() as u64).sum();
+    let messages = pack(deep.tiles, ranks);
+    let bytes_sent: u64 = messages
+        .iter()
+        .enumerate()
+        .filter(|(to, _)| *to != rank)
+        .map(|(_, m)| m.len() as u64)
+        .sum();
+    let incoming = comm.all_to_all(messages);
     let settled = agreed(
         comm,
         settle(&incoming.parts(), rank, ranks, size, &resolver),
@@ -77,17 +85,35 @@ pub fn render_frame(
     drop(incoming);
     let gathered = comm.gather(settled);
     let s = &deep.stats;
-    let mut sums = [
+    let t = s.timing;
+    let render = t.setup + t.sort + t.bin + t.draw;
+    // Every rank's numbers to rank 0: the sums of the statistics, and each rank's load.
+    let mine = [
         s.cells as u64,
         s.drawn as u64,
         s.fragments,
         s.lane_fragments,
         s.cycle_cells as u64,
+        render.as_nanos() as u64,
+        runs,
+        bytes_sent,
+        started.elapsed().as_nanos() as u64,
     ];
-    comm.sum_u64(&mut sums);
-    let Some(gathered) = gathered else {
+    let loads = comm.gather(mine.iter().flat_map(|v| v.to_le_bytes()).collect());
+    let (Some(gathered), Some(loads)) = (gathered, loads) else {
         return Ok(None);
     };
+    let loads: Vec<[u64; 9]> = loads
+        .iter()
+        .map(|b| {
+            std::array::from_fn(|k| {
+                b.get(8 * k..8 * k + 8)
+                    .and_then(|v| v.try_into().ok())
+                    .map_or(0, u64::from_le_bytes)
+            })
+        })
+        .collect();
+    let sums: [u64; 5] = std::array::from_fn(|k| loads.iter().map(|l| l[k]).sum());
     let (mut fb, overlap_pixels, most) = assemble(&gathered, size)?;
     fb.transparent = matches!(settings.background, Background::None);
     let (non_finite, first_non_finite) = non_finite(&fb);
@@ -108,6 +134,16 @@ pub fn render_frame(
         overlap_pixels: overlap_pixels as usize,
         overlap_cells: Vec::new(),
         timing,
+        ranks: loads
+            .iter()
+            .map(|l| RankLoad {
+                render: Duration::from_nanos(l[5]),
+                fragments: l[2],
+                runs: l[6],
+                bytes_sent: l[7],
+                composite: Duration::from_nanos(l[8]),
+            })
+            .collect(),
     };
     Ok(Some((fb, stats)))
 }

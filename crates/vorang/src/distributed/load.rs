@@ -101,6 +101,7 @@ pub fn load(comm: &dyn Comm, path: &Path) -> Result<(Volume, Vec<Warning>), Stri
         }
         Err(e) => return Err(comm.agree(Err(e.to_string())).err().unwrap_or_default()),
     };
+    agree_on_fields(comm, &vol, path)?;
     let b = vol.mesh.bbox();
     let mut lo = b.min;
     let mut hi = b.max;
@@ -124,4 +125,53 @@ pub fn union(boxes: impl IntoIterator<Item = Aabb>) -> Aabb {
         }
     }
     out
+}
+
+/// This rank's fields as the pieces must agree on them: name, type and whether per node or per
+/// cell, in their numbering (`"T" double (nodes), "material" int (cells)`).
+pub fn fields_signature(vol: &Volume) -> String {
+    let list: Vec<String> = vol
+        .data
+        .fields
+        .iter()
+        .map(|f| {
+            let at = match f.interpolator {
+                crate::field::Interpolator::Constant => "cells",
+                _ => "nodes",
+            };
+            format!("\"{}\" {} ({at})", f.name.as_deref().unwrap_or("?"), f.ty)
+        })
+        .collect();
+    if list.is_empty() {
+        "no arrays".into()
+    } else {
+        list.join(", ")
+    }
+}
+
+/// The ranks' fields must be one process's: each rank merged only its own pieces, so pieces
+/// read by different ranks are compared here (every rank sends its fields to every rank, so
+/// that all reach the same verdict and message).
+fn agree_on_fields(comm: &dyn Comm, vol: &Volume, path: &Path) -> Result<(), String> {
+    let mine = fields_signature(vol).into_bytes();
+    let all = comm.all_to_all(vec![mine; comm.size()]);
+    let parts = all.parts();
+    let text = |r: usize| String::from_utf8_lossy(parts[r]).into_owned();
+    let pieces = pvtu_pieces(path).ok().flatten().map_or(1, |p| p.len());
+    let files = |r: usize| match share(pieces, r, comm.size()) {
+        Share::Pieces(range) if range.is_empty() => "no piece".to_string(),
+        Share::Pieces(range) => format!("pieces {} … {}", range.start, range.end - 1),
+        Share::Part { piece, .. } => format!("piece {piece}"),
+    };
+    match (1..parts.len()).find(|&r| parts[r] != parts[0]) {
+        None => Ok(()),
+        Some(r) => Err(format!(
+            "{}: the pieces' arrays disagree: rank {r} ({}) has {} but rank 0 ({}) has {}; every piece needs the same point and cell arrays (name, components, type)",
+            path.display(),
+            files(r),
+            text(r),
+            files(0),
+            text(0)
+        )),
+    }
 }

@@ -329,6 +329,7 @@ impl Gpu {
             first_non_finite: non_finite.map(|i| (i % fb.width, i / fb.width)),
             overlap_pixels: 0,
             overlap_cells: Vec::new(),
+            ranks: Vec::new(),
             timing: crate::render::Timing {
                 setup,
                 draw: drawing.elapsed(),

@@ -3,6 +3,9 @@
 use crate::mapping::{ColorMap, Part, ScalarColor, Table};
 use crate::volume::Volume;
 
+/// A field's data range per component (`None`: the field has none).
+pub type FieldRange = Option<Vec<(f64, f64)>>;
+
 /// The colour transfer function over `[lo, hi]`, as the legend shows it.
 #[derive(Debug, Clone)]
 pub struct ColorScale {
@@ -36,6 +39,16 @@ impl ColorScale {
     /// range. Maps with several method lines, or whose colour is not a function of one scalar
     /// (IDENTITY, CONST_CELL), have none: the message says why.
     pub fn of_map(map: &ColorMap, vol: &Volume) -> Result<ColorScale, String> {
+        Self::of_map_over(map, vol, None)
+    }
+
+    /// [`ColorScale::of_map`] with the fields' data ranges given (`ranges`, by field, where
+    /// the volume is not all there is: a distributed session's whole grid), else `vol`'s.
+    pub fn of_map_over(
+        map: &ColorMap,
+        vol: &Volume,
+        ranges: Option<&[FieldRange]>,
+    ) -> Result<ColorScale, String> {
         let [line] = map.lines.as_slice() else {
             return Err(format!(
                 "the colormap {} has {} method lines (one per category): there is no single colour scale to draw",
@@ -50,7 +63,10 @@ impl ColorScale {
             let range = match named.part {
                 Some(p) => crate::mapping::part_ranges(vol, field)
                     .map(|r| r[Part::ALL.iter().position(|&q| q == p).unwrap_or(0)].clone()),
-                None => vol.field_range(field),
+                None => match ranges {
+                    Some(r) => r.get(field).cloned().flatten(),
+                    None => vol.field_range(field),
+                },
             };
             match range.as_deref() {
                 Some([(lo, hi)]) if lo.is_finite() && hi.is_finite() => Ok((*lo, *hi)),

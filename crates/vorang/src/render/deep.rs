@@ -150,6 +150,7 @@ pub fn render_runs(
         first_non_finite: None,
         overlap_pixels: 0,
         overlap_cells: Vec::new(),
+        ranks: Vec::new(),
         timing: Timing {
             setup,
             sort: sort_time,
@@ -189,6 +190,7 @@ pub fn non_finite(fb: &Framebuffer) -> (usize, Option<(usize, usize)>) {
 /// What settles a pixel from its runs: the background and the grid lines of the frame.
 pub struct Resolver {
     width: usize,
+    order: super::Order,
     background: Backdrop,
     line_depth: Option<Vec<f64>>,
 }
@@ -198,6 +200,7 @@ impl Resolver {
     pub fn new(settings: &Settings, line_depth: Option<Vec<f64>>) -> Result<Resolver, Error> {
         Ok(Resolver {
             width: settings.width,
+            order: settings.order,
             background: backdrop(settings)?,
             line_depth,
         })
@@ -206,8 +209,9 @@ impl Resolver {
     /// Pixel (x, y) from the runs of every rank (concatenated in rank order; sorted here): as
     /// one process settles its runs — sorted by depth, composited back to front over I0 (black
     /// on a grid line), alpha `1 − T`. Also whether two runs overlap along the ray
-    /// (interpenetrating cells).
-    pub fn pixel(&self, x: usize, y: usize, stretches: &mut [Stretch]) -> ([f32; 4], bool) {
+    /// (interpenetrating cells), and whether one process would have stopped compositing
+    /// before the last cell ([`Resolver::stops_early`]).
+    pub fn pixel(&self, x: usize, y: usize, stretches: &mut [Stretch]) -> ([f32; 4], bool, bool) {
         stretches.sort_by(|a, b| by_depth((a.near, a.far), (b.near, b.far)));
         let overlapped = stretches
             .windows(2)
@@ -223,6 +227,19 @@ impl Resolver {
             }
         };
         let (rgb, t) = back_to_front(stretches.iter().map(|s| (s.b, s.theta)), i0);
-        (pixel_out(rgb, t, line.is_finite()), overlapped)
+        (
+            pixel_out(rgb, t, line.is_finite()),
+            overlapped,
+            self.stops_early(t),
+        )
+    }
+
+    /// Whether a pixel of transparency `t` may have reached front-to-back compositing's early
+    /// termination in one process (`render_ftb`, [`super::EARLY_TERMINATION`]): it stops at
+    /// the cell where the transparency falls below the threshold, inside some rank's run,
+    /// which the runs cannot reproduce. A pixel whose transparency stays above it (with room
+    /// for rounding) was composited to the end, as here.
+    pub fn stops_early(&self, t: f64) -> bool {
+        self.order == super::Order::FrontToBack && t < super::EARLY_TERMINATION * (1.0 + 1e-6)
     }
 }

@@ -69,7 +69,7 @@ pub use composite::{EARLY_TERMINATION, Order};
 pub use lines::LineDraw;
 pub use raster::Rect;
 pub use schedule::{
-    CANCELLED, Stats, TileSink, Timing, Watch, auto_tile, render, render_cancellable,
+    CANCELLED, RankLoad, Stats, TileSink, Timing, Watch, auto_tile, render, render_cancellable,
     render_watched,
 };
 #[cfg(feature = "gpu")]

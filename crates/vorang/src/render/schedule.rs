@@ -64,6 +64,23 @@ pub struct Stats {
     pub overlap_pixels: usize,
     pub overlap_cells: Vec<(u32, u32)>,
     pub timing: Timing,
+    /// A distributed frame (on rank 0): what each rank did, by rank; empty in one process.
+    pub ranks: Vec<RankLoad>,
+}
+
+/// One rank's share of a distributed frame (`VORANG_TIMING`, benches/distributed.sh).
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct RankLoad {
+    /// Rendering its cells into runs (setup, sort, binning, drawing).
+    pub render: Duration,
+    /// Pixel–cell pairs it integrated (ray segments).
+    pub fragments: u64,
+    /// The runs it sent to the owners of their pixels (its own tiles' included).
+    pub runs: u64,
+    /// The bytes it sent to the other ranks in the all-to-all (its own tiles' not counted).
+    pub bytes_sent: u64,
+    /// From the all-to-all to the gathered image (rank 0) or to its pixels sent (the others).
+    pub composite: Duration,
 }
 
 impl Stats {
@@ -84,6 +101,7 @@ impl Stats {
             overlap_pixels: 0,
             overlap_cells: Vec::new(),
             timing: Timing::default(),
+            ranks: Vec::new(),
         }
     }
 }
@@ -231,6 +249,7 @@ pub fn render_watched(
                 draw: draw_time,
                 composite: Duration::ZERO,
             },
+            ranks: Vec::new(),
         },
     ))
 }

@@ -141,26 +141,94 @@ impl View {
         width: usize,
         height: usize,
     ) -> Result<(), String> {
+        let extremes = self.fit_extremes(nodes, bbox_centre)?;
+        if nodes.is_empty() {
+            return Err("view_all: the volume has no nodes".into());
+        }
+        self.fit_to(&extremes, bbox_centre, width, height)
+    }
+
+    /// What [`View::fit`] needs of the nodes, as minima only (maxima negated), so that the
+    /// extremes of several sets of nodes — the ranks of a distributed session, each holding
+    /// some of them — combine by an elementwise minimum: orthographic, the eye-space box
+    /// (`lo`, then `−hi`); perspective, `−d` and the depth extent along the view (`min z`,
+    /// `−max z`). Without nodes, the neutral element.
+    pub fn fit_extremes(
+        &self,
+        nodes: &[[f64; 3]],
+        bbox_centre: [f64; 3],
+    ) -> Result<[f64; FIT_EXTREMES], String> {
         let model = self
             .model(bbox_centre)
             .ok_or("view_all: the transforms are singular")?;
-        let world: Vec<[f64; 3]> = nodes.iter().map(|&p| model.apply(p)).collect();
-        if world.is_empty() {
-            return Err("view_all: the volume has no nodes".into());
+        let mut out = [f64::INFINITY; FIT_EXTREMES];
+        match self.camera {
+            None | Some(Camera::Ortho { .. }) => {
+                let eye = self.view_matrix();
+                for &p in nodes {
+                    let q = eye.apply(model.apply(p));
+                    for k in 0..3 {
+                        out[k] = out[k].min(q[k]);
+                        out[3 + k] = out[3 + k].min(-q[k]);
+                    }
+                }
+            }
+            Some(Camera::Persp {
+                fovy,
+                aspect: cam_aspect,
+                ..
+            }) => {
+                let f = self.view_direction();
+                let centre = model.apply(bbox_centre);
+                let axes = self.view_matrix();
+                let rows = [0, 1, 2].map(|i| [axes.0[i][0], axes.0[i][1], axes.0[i][2]]);
+                let ty = (0.5 * fovy.to_radians()).tan() * (1.0 - 2.0 * FIT_MARGIN);
+                let tx = ty * cam_aspect;
+                // With the eye at centre − d·f, a node at offset (x, y) from the axis and z
+                // along f from the centre is at depth d + z: it fits if |x| ≤ tx·(d + z) and
+                // |y| ≤ ty·(d + z).
+                let mut d: f64 = 0.0;
+                for &p in nodes {
+                    let o = transform::sub(model.apply(p), centre);
+                    let (x, y) = (transform::dot(o, rows[0]), transform::dot(o, rows[1]));
+                    let z = transform::dot(o, f);
+                    d = d.max(x.abs() / tx - z).max(y.abs() / ty - z);
+                    out[1] = out[1].min(z);
+                    out[2] = out[2].min(-z);
+                }
+                out[0] = -d;
+            }
         }
+        Ok(out)
+    }
+
+    /// The unit viewing direction of the look-at (−z when the eye is at the reference point).
+    fn view_direction(&self) -> [f64; 3] {
+        let LookAt { eye, reference, .. } = self.look_at;
+        let mut f = transform::sub(reference, eye);
+        if transform::norm(f) == 0.0 {
+            f = [0.0, 0.0, -1.0];
+        }
+        f.map(|v| v / transform::norm(f))
+    }
+
+    /// [`View::fit`] from the nodes' [`View::fit_extremes`] (of every rank).
+    pub fn fit_to(
+        &mut self,
+        extremes: &[f64; FIT_EXTREMES],
+        bbox_centre: [f64; 3],
+        width: usize,
+        height: usize,
+    ) -> Result<(), String> {
+        let model = self
+            .model(bbox_centre)
+            .ok_or("view_all: the transforms are singular")?;
         let aspect = width as f64 / height as f64;
         let keep = 1.0 - 2.0 * FIT_MARGIN;
         match self.camera {
             None | Some(Camera::Ortho { .. }) => {
-                let eye = self.view_matrix();
-                let (mut lo, mut hi) = ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]);
-                for &p in &world {
-                    let q = eye.apply(p);
-                    for k in 0..3 {
-                        lo[k] = lo[k].min(q[k]);
-                        hi[k] = hi[k].max(q[k]);
-                    }
-                }
+                let lo = [extremes[0], extremes[1], extremes[2]];
+                let hi = [-extremes[3], -extremes[4], -extremes[5]];
                 let (cx, cy) = (0.5 * (lo[0] + hi[0]), 0.5 * (lo[1] + hi[1]));
                 let mut hx = 0.5 * (hi[0] - lo[0]) / keep;
                 let mut hy = 0.5 * (hi[1] - lo[1]) / keep;
@@ -189,31 +257,11 @@ impl View {
                 aspect: cam_aspect,
                 ..
             }) => {
-                let LookAt { eye, reference, up } = self.look_at;
-                let mut f = transform::sub(reference, eye);
-                if transform::norm(f) == 0.0 {
-                    f = [0.0, 0.0, -1.0];
-                }
-                let f = f.map(|v| v / transform::norm(f));
-                // The world centre of the bounding box, and the eye's axes (from the current
-                // look-at, which keeps its direction).
+                let f = self.view_direction();
+                // The world centre of the bounding box; the eye keeps its direction.
                 let centre = model.apply(bbox_centre);
-                let axes = self.view_matrix();
-                let rows = [0, 1, 2].map(|i| [axes.0[i][0], axes.0[i][1], axes.0[i][2]]);
-                let ty = (0.5 * fovy.to_radians()).tan() * keep;
-                let tx = ty * cam_aspect;
-                // With the eye at centre − d·f, a node at offset (x, y) from the axis and z
-                // along f from the centre is at depth d + z: it fits if |x| ≤ tx·(d + z) and
-                // |y| ≤ ty·(d + z).
-                let mut d: f64 = 0.0;
-                let mut zs = (f64::INFINITY, f64::NEG_INFINITY);
-                for &p in &world {
-                    let o = transform::sub(p, centre);
-                    let (x, y) = (transform::dot(o, rows[0]), transform::dot(o, rows[1]));
-                    let z = transform::dot(o, f);
-                    d = d.max(x.abs() / tx - z).max(y.abs() / ty - z);
-                    zs = (zs.0.min(z), zs.1.max(z));
-                }
+                let mut d = -extremes[0];
+                let zs = (extremes[1], -extremes[2]);
                 // In front of every node, whatever the field of view.
                 let depth_span = zs.1 - zs.0;
                 d = d.max(-zs.0 + 0.05 * depth_span.max(1e-9));
@@ -224,7 +272,7 @@ impl View {
                 self.look_at = LookAt {
                     eye: new_eye,
                     reference: centre,
-                    up,
+                    up: self.look_at.up,
                 };
                 let (near, far) = (d + zs.0, d + zs.1);
                 self.camera = Some(Camera::Persp {
@@ -238,6 +286,9 @@ impl View {
         Ok(())
     }
 }
+
+/// How many numbers [`View::fit_extremes`] gives.
+pub const FIT_EXTREMES: usize = 6;
 
 #[cfg(test)]
 mod tests {

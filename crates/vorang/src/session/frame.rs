@@ -146,6 +146,10 @@ impl Session {
         // Bound on every rank's piece: the maps may fit one and not another.
         self.agree(bound.as_ref().map(|_| ()).map_err(String::clone))?;
         let (mapping, w) = bound?;
+        if self.is_distributed() {
+            self.distributable(&self.settings.method)
+                .map_err(|e| format!("{command}: {e}"))?;
+        }
         let ranked = match &self.ranks {
             Ranks::One => Ranked::One,
             Ranks::Comm(c) => Ranked::Comm(Arc::clone(c)),
@@ -276,7 +280,8 @@ impl Session {
             )));
         }
         if let Some(place) = self.legend {
-            match ColorScale::of_map(&self.colormap, &prepared.volume) {
+            let ranges = self.ranked_ranges.as_deref().map(Vec::as_slice);
+            match ColorScale::of_map_over(&self.colormap, &prepared.volume, ranges) {
                 Ok(scale) => {
                     if !legend::draw(&mut fb, place, &scale) {
                         notices.push(Notice::Warning(format!(
@@ -429,6 +434,26 @@ pub fn timing_line(stats: &Stats) -> String {
         crate::render::span::kernel().name(),
         rayon::current_num_threads()
     ) + &composite_part(t.composite)
+        + &ranks_part(&stats.ranks)
+}
+
+/// A distributed frame's load per rank, for the timing line (nothing in one process).
+fn ranks_part(ranks: &[crate::render::RankLoad]) -> String {
+    let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    ranks
+        .iter()
+        .enumerate()
+        .map(|(r, l)| {
+            format!(
+                "; rank {r}: render {:.1} ms, {} ray segments, {} runs, {} bytes sent, composite {:.1} ms",
+                ms(l.render),
+                l.fragments,
+                l.runs,
+                l.bytes_sent,
+                ms(l.composite)
+            )
+        })
+        .collect()
 }
 
 /// A distributed frame's compositing time, for the timing line (nothing in one process).

@@ -155,6 +155,12 @@ pub struct Session {
     /// The collection the volume is a step of (`volume` on a `.pvd`, `.pvtu`, `.vtm`,
     /// `.series`), with the step shown.
     series: Option<series::Shown>,
+    /// A distributed session's time series whose steps are `.pvtu` grids: the steps, and the
+    /// one the ranks show (each rank holds its share of it).
+    ranked_steps: Option<(Arc<crate::formats::collection::Series>, usize)>,
+    /// A distributed session's fields' data ranges over every rank's cells (the legend, the
+    /// preset maps).
+    ranked_ranges: Option<Arc<crate::formats::collection::FieldRanges>>,
     /// `label FORMAT`: the step's time printed into every image.
     label: Option<String>,
     /// `backend`: which renders the frames.
@@ -212,6 +218,8 @@ impl Session {
             pieces: Vec::new(),
             movie_elsewhere: None,
             series: None,
+            ranked_steps: None,
+            ranked_ranges: None,
             label: None,
             backend: Backend::Cpu,
         }
@@ -327,6 +335,8 @@ impl Session {
         self.volume = Some(vol);
         self.pieces.clear();
         self.series = None;
+        self.ranked_steps = None;
+        self.ranked_ranges = None;
         self.colormap = ColorMap::default_map();
         self.alphamap = AlphaMap::default_map();
         self.view = View::default();
@@ -435,7 +445,6 @@ impl Session {
         command: &str,
         preset: &str,
     ) -> Result<Option<(f64, Notice)>, String> {
-        self.whole_volume_only(command)?;
         let vol = self.need_volume(command)?;
         let size = vol.mesh.bbox().size();
         let diagonal = size.iter().map(|v| v * v).sum::<f64>().sqrt();
@@ -521,18 +530,30 @@ impl Session {
 
     /// `view_all`: a camera of the current kind that frames the transformed volume.
     pub fn view_all(&mut self) -> Result<(), String> {
-        self.whole_volume_only("view_all")?;
         let vol = self
             .volume
             .clone()
             .ok_or("view_all: no volume loaded (use 'volume FILE' first)")?;
-        let bbox = vol.mesh.bbox();
-        self.view.fit(
-            vol.mesh.nodes(),
-            bbox.center(),
-            self.settings.width,
-            self.settings.height,
-        )
+        let centre = vol.mesh.bbox().center();
+        if !self.is_distributed() {
+            return self.view.fit(
+                vol.mesh.nodes(),
+                centre,
+                self.settings.width,
+                self.settings.height,
+            );
+        }
+        // Every rank's nodes: the extremes are minima, combined over the ranks.
+        let view = &self.view;
+        let extremes = self.min_over_pieces(|piece| {
+            view.fit_extremes(piece.mesh.nodes(), centre)
+                .map(|e| e.to_vec())
+        })?;
+        let extremes: [f64; crate::scene::FIT_EXTREMES] = extremes
+            .try_into()
+            .map_err(|_| "view_all: the ranks disagree".to_string())?;
+        self.view
+            .fit_to(&extremes, centre, self.settings.width, self.settings.height)
     }
 
     /// Zooms the camera by `factor` (> 1: closer) about the image centre: an orthographic window
@@ -616,6 +637,16 @@ impl Session {
     pub fn set_method(&mut self, method: Method) {
         self.settings.method = method;
         self.method_set = true;
+    }
+
+    /// `method …` in a distributed session: whether the ranks can render it (a method they
+    /// cannot is refused at the command, and again at every render).
+    pub fn check_method(&self, method: &Method) -> Result<(), String> {
+        if self.is_distributed() {
+            self.distributable(method)
+                .map_err(|e| format!("method: {e}"))?;
+        }
+        Ok(())
     }
 
     /// `imagesize width height`.

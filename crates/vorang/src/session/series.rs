@@ -82,7 +82,8 @@ impl Session {
         vol: &crate::volume::Volume,
         i: usize,
     ) -> Option<Vec<(f64, f64)>> {
-        match self.series.as_ref().and_then(|s| s.ranges.as_ref()) {
+        let ranges = self.ranked_ranges.as_ref();
+        match ranges.or(self.series.as_ref().and_then(|s| s.ranges.as_ref())) {
             Some(ranges) => ranges.get(i).cloned().flatten(),
             None => vol.field_range(i),
         }
@@ -96,6 +97,9 @@ impl Session {
     /// The shown step's number and time: `(0, 0.0)` for a volume that is no collection; `None`
     /// without a volume.
     pub fn timestep(&self) -> Option<(usize, f64)> {
+        if let Some(shown) = self.ranked_step() {
+            return Some(shown);
+        }
         match &self.series {
             Some(s) => Some((s.step.index, s.series.steps[s.step.index].time)),
             None => self.volume.as_ref().map(|_| (0, 0.0)),
@@ -104,6 +108,9 @@ impl Session {
 
     /// Every step's time (`[0.0]` for a volume that is no collection, none without a volume).
     pub fn timesteps(&self) -> Vec<f64> {
+        if let Some(series) = self.ranked_series() {
+            return series.times();
+        }
         match &self.series {
             Some(s) => s.series.times(),
             None => self.volume.iter().map(|_| 0.0).collect(),
@@ -116,12 +123,18 @@ impl Session {
         if !t.is_finite() {
             return Err(format!("timestep: the time {t} is not a finite number"));
         }
+        if let Some(series) = self.ranked_series() {
+            return Ok(series.nearest(t));
+        }
         Ok(self.series.as_ref().map_or(0, |s| s.series.nearest(t)))
     }
 
     /// The number of the last step.
     pub fn last_timestep(&self) -> Result<usize, String> {
         self.need_volume("timestep")?;
+        if let Some(series) = self.ranked_series() {
+            return Ok(series.len() - 1);
+        }
         Ok(self.series.as_ref().map_or(0, |s| s.series.len() - 1))
     }
 
@@ -130,6 +143,9 @@ impl Session {
     /// shown step stays.
     pub fn set_timestep(&mut self, index: usize) -> Result<Vec<Notice>, String> {
         self.need_volume("timestep")?;
+        if let Some(shown) = self.show_ranked_step(index) {
+            return shown;
+        }
         self.whole_volume_only("timestep")?;
         let Some(shown) = &self.series else {
             return match index {

@@ -17,11 +17,12 @@ pub const METHOD: CommandInfo = CommandInfo {
     name: "method",
     usage: "name ?parameters?",
     summary: "the approximation method: exact integration step brightness | interpolateCoeff integration brightness | interpolateColor brightness | test opacity",
-    details: "Default: test 0.5. Integration rules: trapez, constEA, weightedConstEA, linear. 'step' is the largest distance between samples in world units (0: the whole cell interval); 'brightness' scales all emission. The thesis's short names interpolCoeff and interpolColor are accepted for interpolateCoeff and interpolateColor.",
+    details: "Default: test 0.5. Integration rules: trapez, constEA, weightedConstEA, linear. 'step' is the largest distance between samples in world units (0: the whole cell interval); 'brightness' scales all emission. The thesis's short names interpolCoeff and interpolColor are accepted for interpolateCoeff and interpolateColor. A distributed session (mpirun, --virtual-ranks) refuses test on more than one rank (docs/distributed.md).",
     run: |s: &mut Context, c: &Call| {
         let words: Vec<&str> = c.args().iter().map(String::as_str).collect();
-        s.session
-            .set_method(Method::parse(&words).map_err(|e| format!("method: {e}"))?);
+        let method = Method::parse(&words).map_err(|e| format!("method: {e}"))?;
+        s.session.check_method(&method)?;
+        s.session.set_method(method);
         Ok(String::new())
     },
 };
