@@ -114,17 +114,9 @@ pub fn load(comm: &dyn Comm, path: &Path) -> Result<(Volume, Vec<Warning>), Stri
 /// The whole's box from every rank's box, for ranks that are not a [`Comm`] (pieces cut in
 /// memory): the smallest box around them all.
 pub fn union(boxes: impl IntoIterator<Item = Aabb>) -> Aabb {
-    let mut out = Aabb {
-        min: [f64::INFINITY; 3],
-        max: [f64::NEG_INFINITY; 3],
-    };
-    for b in boxes {
-        for k in 0..3 {
-            out.min[k] = out.min[k].min(b.min[k]);
-            out.max[k] = out.max[k].max(b.max[k]);
-        }
-    }
-    out
+    boxes
+        .into_iter()
+        .fold(Aabb::of_points(&[]), |all, b| all.union(&b))
 }
 
 /// This rank's fields as the pieces must agree on them: name, type and whether per node or per
