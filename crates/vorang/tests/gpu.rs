@@ -245,32 +245,20 @@ fn compare(
             &twin_image[i / 4 * 4..i / 4 * 4 + 4]
         );
     }
-    // Both images are f64 rounded to the f32 framebuffer: values within 1e-12 round to the same
-    // f32 or to neighbours (where a rounding boundary lies between them). So a channel passes
-    // if it is within 1e-12 of the CPU's, or the next f32 to it.
     let mut worst = (0.0f64, 0);
-    let mut neighbours = 0;
+    let mut over = 0;
     for (i, (a, b)) in cpu.pixels.iter().zip(&gpu.pixels).enumerate() {
         for k in 0..4 {
             let d = (f64::from(a[k]) - f64::from(b[k])).abs();
-            let ulp = f64::from(a[k].abs().max(b[k].abs())) * f64::from(f32::EPSILON);
-            if d > 1e-12 && d <= ulp {
-                neighbours += 1;
-                continue;
-            }
+            over += usize::from(d > 1e-12);
             if d > worst.0 {
                 worst = (d, i);
             }
         }
     }
-    if neighbours > 0 {
-        eprintln!("{what}: {neighbours} channels one f32 step apart");
+    if over > 0 {
+        eprintln!("{what}: {over} channels differ by more than 1e-12");
     }
-    // Measured on lavapipe: at most 12 of 36 864 channels (the 90° axis view).
-    assert!(
-        neighbours * 400 <= 4 * cpu.pixels.len(),
-        "{what}: {neighbours} channels one f32 step apart"
-    );
     let i = worst.1;
     assert!(
         worst.0 <= 1e-12,

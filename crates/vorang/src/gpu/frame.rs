@@ -17,10 +17,21 @@ use crate::render::{Method, Order, Placed, Settings, lines, place_nodes};
 use crate::scene::{Projector, View};
 use crate::volume::Volume;
 
-/// What the GPU renders; everything else says what it is not.
-pub fn check_method(method: &Method) -> Result<f64, String> {
+/// The methods the march integrates (`METHOD` in `march.wgsl`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GpuMethod {
+    /// `exact linear 0 B`: the field along the ray, cut at the transfer function's knots.
+    Exact,
+    /// `interpolateCoeff linear B`: η and χ mapped at the nodes, interpolated along the ray.
+    InterpolateCoeff,
+}
+
+/// What the GPU renders, with its brightness; everything else says what it is not.
+pub fn check_method(method: &Method) -> Result<(GpuMethod, f64), String> {
     match method {
-        Method::Exact(m) if m.rule.name == "linear" && m.step == 0.0 => Ok(m.brightness),
+        Method::Exact(m) if m.rule.name == "linear" && m.step == 0.0 => {
+            Ok((GpuMethod::Exact, m.brightness))
+        }
         Method::Exact(m) if m.rule.name == "linear" => Err(format!(
             "method exact linear {}: the GPU backend integrates whole cell intervals only (step 0: 'method exact linear 0 {}'); use 'backend cpu' for steps",
             m.step, m.brightness
@@ -29,8 +40,15 @@ pub fn check_method(method: &Method) -> Result<f64, String> {
             "method exact {}: the GPU backend has the linear rule only ('method exact linear 0 B'); use 'backend cpu' for {}",
             m.rule.name, m.rule.name
         )),
+        Method::InterpolateCoeff(m) if m.rule.name == "linear" => {
+            Ok((GpuMethod::InterpolateCoeff, m.brightness))
+        }
+        Method::InterpolateCoeff(m) => Err(format!(
+            "method interpolateCoeff {}: the GPU backend has the linear rule only ('method interpolateCoeff linear B'); use 'backend cpu' for {}",
+            m.rule.name, m.rule.name
+        )),
         other => Err(format!(
-            "method {}: not available on the GPU backend yet (it renders 'method exact linear 0 B'); use 'backend cpu'",
+            "method {}: not available on the GPU backend (it renders 'exact linear 0 B' and 'interpolateCoeff linear B'); use 'backend cpu'",
             other.name()
         )),
     }
@@ -71,7 +89,7 @@ pub fn prepare(
     settings: &Settings,
     fma: bool,
 ) -> Result<FrameData, Error> {
-    let brightness = check_method(&settings.method).map_err(Error::Invalid)?;
+    let (method, brightness) = check_method(&settings.method).map_err(Error::Invalid)?;
     let transfer = check_mapping(mapping, vol).map_err(Error::Invalid)?;
     crate::render::check_size(settings.width, settings.height).map_err(Error::Invalid)?;
     let placed = place_nodes(vol, view, settings)?;
@@ -87,10 +105,11 @@ pub fn prepare(
             "the GPU backend does not render cells reaching in front of the near plane yet (the eye inside or close to the volume); use 'backend cpu'".into(),
         ));
     }
-    let nodes = node_data(vol, &placed, &transfer, perspective);
+    let nodes = node_data(vol, &placed, &transfer, method, perspective)?;
+    let stride = node_stride(method);
     let (width, height) = (settings.width, settings.height);
     let sign = i32::from(entry_sign(placed.mirrored));
-    let lists = boundary_entries(vol, &nodes, width, height, sign, perspective, fma);
+    let lists = boundary_entries(vol, &nodes, stride, [width, height], sign, perspective, fma);
     let edges = lines::edges(vol, &settings.lines)?;
     let line_depth = if edges.is_empty() {
         None
@@ -124,6 +143,15 @@ pub fn prepare(
     consts[slot::HAS_LINES] = f64::from(u8::from(line_depth.is_some()));
     consts[slot::EXACT_FMA] = f64::from(u8::from(fma));
     consts[slot::CELLS] = vol.mesh.tet_count() as f64;
+    consts[slot::NODE] = stride as f64;
+    consts[slot::METHOD] = f64::from(u8::from(method == GpuMethod::InterpolateCoeff));
+    let planes = placed.projector.ray_planes();
+    for r in 0..3 {
+        for k in 0..3 {
+            consts[slot::PLANES + 3 * r + k] = planes.origin[r][k];
+            consts[slot::PLANES + 9 + 3 * r + k] = planes.dir[r][k];
+        }
+    }
     consts.extend(transfer.flat());
     let entries = lists.len() - (width * height + 1);
     Ok(FrameData {
@@ -137,20 +165,55 @@ pub fn prepare(
     })
 }
 
+/// The numbers per node in the march's `nodes`.
+fn node_stride(method: GpuMethod) -> usize {
+    match method {
+        GpuMethod::Exact => 7,
+        GpuMethod::InterpolateCoeff => 10,
+    }
+}
+
 /// Per node: screen x and y, depth (orthographic) or its inverse (perspective, as
-/// `render::faces` takes it), the transfer function's field.
-fn node_data(vol: &Volume, placed: &Placed, transfer: &Transfer1D, perspective: bool) -> Vec<f64> {
+/// `render::faces` takes it), the eye-space position, then the transfer function's field
+/// (exact) or η and χ mapped at the node (interpolateCoeff: the CPU's `Transfer1D::map_nodes`).
+fn node_data(
+    vol: &Volume,
+    placed: &Placed,
+    transfer: &Transfer1D,
+    method: GpuMethod,
+    perspective: bool,
+) -> Result<Vec<f64>, Error> {
     let values = &transfer.node_values;
-    let mut out = vec![0.0; 4 * vol.mesh.node_count()];
-    out.par_chunks_mut(4).enumerate().for_each(|(n, o)| {
-        let d = -placed.eye_nodes[n][2];
+    let count = vol.mesh.node_count();
+    let mapped = match method {
+        GpuMethod::Exact => None,
+        GpuMethod::InterpolateCoeff => Some(transfer.map_nodes(count).ok_or_else(|| {
+            Error::Invalid(
+                "interpolateCoeff on the GPU needs a finite field value at every node; use 'backend cpu'"
+                    .into(),
+            )
+        })?),
+    };
+    let stride = node_stride(method);
+    let mut out = vec![0.0; stride * count];
+    out.par_chunks_mut(stride).enumerate().for_each(|(n, o)| {
+        let e = placed.eye_nodes[n];
+        let d = -e[2];
         let s = placed.screen[n];
         o[0] = s[0];
         o[1] = s[1];
         o[2] = if perspective { 1.0 / d } else { d };
-        o[3] = values.get(n).copied().unwrap_or(0.0);
+        o[3..6].copy_from_slice(&e);
+        match &mapped {
+            None => o[6] = values.get(n).copied().unwrap_or(0.0),
+            Some(m) => {
+                let (eta, chi) = m[n];
+                o[6..9].copy_from_slice(&eta);
+                o[9] = chi;
+            }
+        }
     });
-    out
+    Ok(out)
 }
 
 /// Every pixel's boundary entries, nearest first, as the march reads them: the offsets of the
@@ -160,15 +223,15 @@ fn node_data(vol: &Volume, placed: &Placed, transfer: &Transfer1D, perspective: 
 fn boundary_entries(
     vol: &Volume,
     nodes: &[f64],
-    width: usize,
-    height: usize,
+    stride: usize,
+    [width, height]: [usize; 2],
     sign: i32,
     perspective: bool,
     fma: bool,
 ) -> Vec<u32> {
     let tets = vol.mesh.tets();
     let corner = |n: u32| {
-        let i = 4 * n as usize;
+        let i = stride * n as usize;
         Corner {
             p: [nodes[i], nodes[i + 1]],
             z: nodes[i + 2],

@@ -261,6 +261,18 @@ pub fn exit_face(s: &[[f64; 2]; 4], entry_sign: i32, p: [f64; 2], fma: bool) -> 
     last
 }
 
+fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
 /// `MAX_DEPTH`: the largest end depth of a segment summed by the series.
 pub const MAX_DEPTH: f64 = 0.5;
 const MAX_TERMS: u32 = 64;
@@ -364,8 +376,14 @@ pub mod slot {
     pub const HAS_LINES: usize = 13;
     pub const EXACT_FMA: usize = 14;
     pub const CELLS: usize = 15;
+    /// The numbers per node.
+    pub const NODE: usize = 16;
+    /// 0: `exact linear 0`, 1: `interpolateCoeff linear`.
+    pub const METHOD: usize = 17;
+    /// The rays' origin rows (9 numbers), then their direction rows (`scene::RayPlanes`).
+    pub const PLANES: usize = 18;
     /// The knots, then per piece `from, base[4], slope[4]`.
-    pub const TABLE: usize = 16;
+    pub const TABLE: usize = 36;
 }
 
 /// `EARLY_TERMINATION`, `NEGLIGIBLE`.
@@ -506,14 +524,106 @@ impl Buffers<'_> {
         (acc.0.map(|b| b * k), acc.1)
     }
 
+    /// `node_at`.
+    fn node_at(&self, n: u32) -> usize {
+        self.consts[slot::NODE] as usize * n as usize
+    }
+
     fn corner(&self, n: u32) -> Corner {
-        let i = 4 * n as usize;
+        let i = self.node_at(n);
         Corner {
             p: [self.nodes[i], self.nodes[i + 1]],
             z: self.nodes[i + 2],
-            v: self.nodes[i + 3],
+            v: self.nodes[i + 6],
             id: n,
         }
+    }
+
+    /// `eye_of`.
+    fn eye_of(&self, n: u32) -> [f64; 3] {
+        let i = self.node_at(n);
+        [self.nodes[i + 3], self.nodes[i + 4], self.nodes[i + 5]]
+    }
+
+    /// `plane`.
+    fn plane(&self, at: usize, g: [f64; 3], k: usize) -> f64 {
+        let c = self.consts;
+        g[0] * c[at + k] + g[1] * c[at + 3 + k] + g[2] * c[at + 6 + k]
+    }
+
+    /// `cell_line`: `(a, b)` of `λ(τ) = a + τ·b`, `None` for a flat cell.
+    pub fn cell_line(&self, tet: [u32; 4], p: [f64; 2]) -> Option<([f64; 4], [f64; 4])> {
+        let c = tet.map(|n| self.eye_of(n));
+        let sub = |u: [f64; 3], v: [f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
+        let (e1, e2, e3) = (sub(c[1], c[0]), sub(c[2], c[0]), sub(c[3], c[0]));
+        let det = dot3(cross3(e1, e2), e3);
+        if !(det != 0.0 && det.abs() <= f64::MAX) {
+            return None;
+        }
+        let scaled = |v: [f64; 3]| v.map(|x| x / det);
+        let (g1, g2, g3) = (
+            scaled(cross3(e2, e3)),
+            scaled(cross3(e3, e1)),
+            scaled(cross3(e1, e2)),
+        );
+        let g0 = [0, 1, 2].map(|k| -(g1[k] + g2[k] + g3[k]));
+        let g = [g0, g1, g2, g3];
+        let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
+        for i in 0..4 {
+            let h = 1.0 - dot3(g[i], c[i]);
+            let a0 = self.plane(slot::PLANES, g[i], 0) + h;
+            let a1 = self.plane(slot::PLANES, g[i], 1);
+            let a2 = self.plane(slot::PLANES, g[i], 2);
+            let b0 = self.plane(slot::PLANES + 9, g[i], 0);
+            let b1 = self.plane(slot::PLANES + 9, g[i], 1);
+            let b2 = self.plane(slot::PLANES + 9, g[i], 2);
+            a[i] = a0 + a1 * p[0] + a2 * p[1];
+            b[i] = b0 + b1 * p[0] + b2 * p[1];
+        }
+        Some((a, b))
+    }
+
+    /// `interpolate`.
+    fn interpolate(&self, tet: [u32; 4], l: [f64; 4]) -> [f64; 4] {
+        let mut r = [0.0; 4];
+        for i in 0..4 {
+            let at = self.node_at(tet[i]) + 6;
+            for k in 0..4 {
+                r[k] += l[i] * self.nodes[at + k];
+            }
+        }
+        r
+    }
+
+    /// `contribution`.
+    fn contribution(
+        &self,
+        tet: [u32; 4],
+        (a, b): ([f64; 4], [f64; 4]),
+        near: f64,
+        far: f64,
+        length: f64,
+    ) -> Contribution {
+        if self.consts[slot::METHOD] == 0.0 {
+            let v = tet.map(|n| self.nodes[self.node_at(n) + 6]);
+            let s0 = a[0] * v[0] + a[1] * v[1] + a[2] * v[2] + a[3] * v[3];
+            let slope = b[0] * v[0] + b[1] * v[1] + b[2] * v[2] + b[3] * v[3];
+            return self.cell_contribution(s0 + far * slope, s0 + near * slope, length);
+        }
+        let at = |t: f64| [0, 1, 2, 3].map(|i| a[i] + t * b[i]);
+        let f = self.interpolate(tet, at(far));
+        let n = self.interpolate(tet, at(near));
+        let (c, theta) = segment(
+            [f[0], f[1], f[2]],
+            [n[0], n[1], n[2]],
+            [0.0; 3],
+            false,
+            f[3],
+            n[3],
+            length,
+        );
+        let k = self.consts[slot::BRIGHTNESS];
+        (c.map(|x| x * k), theta)
     }
 
     /// `hit`.
@@ -528,7 +638,7 @@ impl Buffers<'_> {
     }
 
     fn screen_of(&self, n: u32) -> [f64; 2] {
-        let i = 4 * n as usize;
+        let i = self.node_at(n);
         [self.nodes[i], self.nodes[i + 1]]
     }
 
@@ -564,7 +674,7 @@ impl Buffers<'_> {
             let mut cell = entry >> 2;
             let mut tet = self.mesh[2 * cell as usize];
             let into = self.hit(tet, (entry & 3) as usize, p);
-            let (mut d_in, mut s_in) = (into[0], into[1]);
+            let mut d_in = into[0];
             loop {
                 if t < stop || !(d_in < dmax) || steps > cells {
                     break;
@@ -577,19 +687,12 @@ impl Buffers<'_> {
                 }
                 let out = self.hit(tet, x, p);
                 let d_out = out[0].max(d_in);
-                let s_out = out[1];
                 let near = d_in.max(dmin);
                 let far = d_out.min(dmax);
-                if near < far {
-                    let (mut s_near, mut s_far) = (s_in, s_out);
-                    let span = d_out - d_in;
-                    if near != d_in {
-                        s_near = s_in + (s_out - s_in) * ((near - d_in) / span);
-                    }
-                    if far != d_out {
-                        s_far = s_in + (s_out - s_in) * ((far - d_in) / span);
-                    }
-                    let (b, theta) = self.cell_contribution(s_far, s_near, (far - near) * speed);
+                if near < far
+                    && let Some(line) = self.cell_line(tet, p)
+                {
+                    let (b, theta) = self.contribution(tet, line, near, far, (far - near) * speed);
                     color = [0, 1, 2].map(|k| color[k] + t * b[k]);
                     t *= theta;
                 }
@@ -600,7 +703,6 @@ impl Buffers<'_> {
                 cell = next;
                 tet = self.mesh[2 * cell as usize];
                 d_in = out[0];
-                s_in = s_out;
             }
         }
         [color[0], color[1], color[2], t]

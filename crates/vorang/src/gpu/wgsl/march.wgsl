@@ -5,7 +5,9 @@
 
 // Per cell: its nodes, then its neighbours across faces 0..3 (0xffffffff: none).
 @group(0) @binding(0) var<storage, read> mesh: array<vec4<u32>>;
-// Per node: screen x, y, depth (orthographic) or inverse depth (perspective), field value.
+// Per node (consts[NODE] numbers): screen x, y, depth (orthographic) or inverse depth
+// (perspective), eye-space x, y, z, then the field value (exact) or η (r, g, b) and χ mapped at
+// the node (interpolateCoeff).
 @group(0) @binding(1) var<storage, read> nodes: array<f64>;
 // Per pixel p: its boundary entries (4·cell + face, nearest first) at lists[lists[p]] up to
 // lists[lists[p + 1]] (the offsets count from the start of the buffer).
@@ -33,7 +35,14 @@ const KNOTS: u32 = 12u;
 const HAS_LINES: u32 = 13u;
 const EXACT_FMA: u32 = 14u;
 const CELLS: u32 = 15u;
-const TABLE: u32 = 16u;
+const NODE: u32 = 16u;
+const METHOD: u32 = 17u;
+// The rays' origin and direction as affine functions of the screen position
+// (scene::RayPlanes): origin[r][k] at PLANES + 3r + k, direction at PLANES + 9 + 3r + k.
+const PLANES: u32 = 18u;
+const TABLE: u32 = 36u;
+const METHOD_EXACT: f64 = 0.0lf;
+const F64_MAX: f64 = 1.7976931348623157e308lf;
 const NO_NEIGHBOR: u32 = 0xffffffffu;
 // render::EARLY_TERMINATION for render_ftb; back to front nothing behind this shows.
 const EARLY_TERMINATION: f64 = 1e-6lf;
@@ -139,8 +148,13 @@ fn cell_contribution(s_far: f64, s_near: f64, length: f64) -> Contribution {
     return Contribution(acc.b * k, acc.theta);
 }
 
+fn node_at(n: u32) -> u32 {
+    return u32(consts[NODE]) * n;
+}
+
 fn corner(n: u32, id: u32) -> Corner {
-    return Corner(vec2<f64>(nodes[4u * n], nodes[4u * n + 1u]), nodes[4u * n + 2u], nodes[4u * n + 3u], id);
+    let i = node_at(n);
+    return Corner(vec2<f64>(nodes[i], nodes[i + 1u]), nodes[i + 2u], nodes[i + 6u], id);
 }
 
 // (depth, field value) on face f of a cell with nodes `tet` at screen position p.
@@ -152,7 +166,90 @@ fn hit(tet: vec4<u32>, f: u32, p: vec2<f64>) -> vec2<f64> {
 }
 
 fn screen_of(n: u32) -> vec2<f64> {
-    return vec2<f64>(nodes[4u * n], nodes[4u * n + 1u]);
+    let i = node_at(n);
+    return vec2<f64>(nodes[i], nodes[i + 1u]);
+}
+
+fn eye_of(n: u32) -> vec3<f64> {
+    let i = node_at(n);
+    return vec3<f64>(nodes[i + 3u], nodes[i + 4u], nodes[i + 5u]);
+}
+
+fn dot3(a: vec3<f64>, b: vec3<f64>) -> f64 {
+    return a.x * b.x + a.y * b.y + a.z * b.z;
+}
+
+fn cross3(a: vec3<f64>, b: vec3<f64>) -> vec3<f64> {
+    return vec3<f64>(a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x);
+}
+
+// The barycentric coordinates λ(τ) = a + τ·b of a cell along the ray of pixel p, τ the depth.
+struct Line {
+    a: vec4<f64>,
+    b: vec4<f64>,
+    proper: bool,
+}
+
+fn plane(at: u32, g: vec3<f64>, k: u32) -> f64 {
+    return g.x * consts[at + k] + g.y * consts[at + 3u + k] + g.z * consts[at + 6u + k];
+}
+
+// render::cell's EyeCell::new (mesh::barycentric_gradients), CellRays::new and CellRays::line,
+// operation for operation: the CPU's per-ray path takes the field from these, so the GPU takes
+// it from the same bits. Not proper for a flat cell, which the CPU does not draw.
+fn cell_line(tet: vec4<u32>, p: vec2<f64>) -> Line {
+    let c = array<vec3<f64>, 4>(eye_of(tet.x), eye_of(tet.y), eye_of(tet.z), eye_of(tet.w));
+    let e1 = c[1] - c[0];
+    let e2 = c[2] - c[0];
+    let e3 = c[3] - c[0];
+    let det = dot3(cross3(e1, e2), e3);
+    var line = Line(vec4<f64>(0.0lf), vec4<f64>(0.0lf), false);
+    if (!(det != 0.0lf && abs(det) <= F64_MAX)) {
+        return line;
+    }
+    let g1 = cross3(e2, e3) / det;
+    let g2 = cross3(e3, e1) / det;
+    let g3 = cross3(e1, e2) / det;
+    let g = array<vec3<f64>, 4>(-(g1 + g2 + g3), g1, g2, g3);
+    for (var i = 0u; i < 4u; i++) {
+        let h = 1.0lf - dot3(g[i], c[i]);
+        let a0 = plane(PLANES, g[i], 0u) + h;
+        let a1 = plane(PLANES, g[i], 1u);
+        let a2 = plane(PLANES, g[i], 2u);
+        let b0 = plane(PLANES + 9u, g[i], 0u);
+        let b1 = plane(PLANES + 9u, g[i], 1u);
+        let b2 = plane(PLANES + 9u, g[i], 2u);
+        line.a[i] = a0 + a1 * p.x + a2 * p.y;
+        line.b[i] = b0 + b1 * p.x + b2 * p.y;
+    }
+    line.proper = true;
+    return line;
+}
+
+// interpolateCoeff's (η, χ) at barycentric coordinates l from the coefficients mapped at the
+// nodes (approx::interpolate_coeff::interpolate).
+fn interpolate(tet: vec4<u32>, l: vec4<f64>) -> vec4<f64> {
+    var r = vec4<f64>(0.0lf);
+    for (var i = 0u; i < 4u; i++) {
+        let at = node_at(tet[i]) + 6u;
+        r = r + l[i] * vec4<f64>(nodes[at], nodes[at + 1u], nodes[at + 2u], nodes[at + 3u]);
+    }
+    return r;
+}
+
+// A cell's (b, θ) between depths near and far (length: the ray's length there): `exact linear 0`
+// (Exact::transfer_pixel) or `interpolateCoeff linear` (InterpolateCoeff::pixel).
+fn contribution(tet: vec4<u32>, line: Line, near: f64, far: f64, length: f64) -> Contribution {
+    if (consts[METHOD] == METHOD_EXACT) {
+        let v = vec4<f64>(nodes[node_at(tet.x) + 6u], nodes[node_at(tet.y) + 6u], nodes[node_at(tet.z) + 6u], nodes[node_at(tet.w) + 6u]);
+        let s0 = line.a.x * v.x + line.a.y * v.y + line.a.z * v.z + line.a.w * v.w;
+        let slope = line.b.x * v.x + line.b.y * v.y + line.b.z * v.z + line.b.w * v.w;
+        return cell_contribution(s0 + far * slope, s0 + near * slope, length);
+    }
+    let f = interpolate(tet, line.a + far * line.b);
+    let n = interpolate(tet, line.a + near * line.b);
+    let c = segment(f.xyz, n.xyz, vec3<f64>(0.0lf), false, f.w, n.w, length);
+    return Contribution(c.b * consts[BRIGHTNESS], c.theta);
 }
 
 @compute @workgroup_size(8, 8)
@@ -191,7 +288,6 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
         var tet = mesh[2u * cell];
         let into = hit(tet, lists[e] & 3u, p);
         var d_in = into.x;
-        var s_in = into.y;
         loop {
             if (t < stop || !(d_in < dmax) || steps > cells) {
                 break;
@@ -205,22 +301,15 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
             let out = hit(tet, x, p);
             // Rounding can put a face crossing ~1e-16 before the other one.
             let d_out = max(out.x, d_in);
-            let s_out = out.y;
             let near = max(d_in, dmin);
             let far = min(d_out, dmax);
             if (near < far) {
-                var s_near = s_in;
-                var s_far = s_out;
-                let span = d_out - d_in;
-                if (near != d_in) {
-                    s_near = s_in + (s_out - s_in) * ((near - d_in) / span);
+                let line = cell_line(tet, p);
+                if (line.proper) {
+                    let c = contribution(tet, line, near, far, (far - near) * speed);
+                    color = color + t * c.b;
+                    t = t * c.theta;
                 }
-                if (far != d_out) {
-                    s_far = s_in + (s_out - s_in) * ((far - d_in) / span);
-                }
-                let c = cell_contribution(s_far, s_near, (far - near) * speed);
-                color = color + t * c.b;
-                t = t * c.theta;
             }
             let next = mesh[2u * cell + 1u][x];
             if (next == NO_NEIGHBOR) {
@@ -229,7 +318,6 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
             cell = next;
             tet = mesh[2u * cell];
             d_in = out.x;
-            s_in = s_out;
         }
     }
     image[4u * pix] = color.x;
