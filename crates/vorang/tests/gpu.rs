@@ -194,10 +194,18 @@ fn the_linear_rule_is_its_twin_and_the_cpu_rule() {
 }
 
 fn settings(size: usize, order: Order, brightness: f64) -> Settings {
+    with_method(size, order, &format!("exact linear 0 {brightness}"))
+}
+
+/// The methods the GPU renders.
+const METHODS: [&str; 2] = ["exact linear 0 1", "interpolateCoeff linear 1.5"];
+
+fn with_method(size: usize, order: Order, method: &str) -> Settings {
+    let words: Vec<&str> = method.split_whitespace().collect();
     Settings {
         width: size,
         height: size,
-        method: Method::parse(&["exact", "linear", "0", &brightness.to_string()]).unwrap(),
+        method: Method::parse(&words).unwrap(),
         order,
         lines: vorang::render::LineDraw::Off,
         ..Settings::default()
@@ -285,15 +293,17 @@ fn accuracy_scenes_match_the_cpu() {
         let vol = Arc::new(scene.volume.clone());
         for (name, view) in views {
             for order in [Order::BackToFront, Order::FrontToBack] {
-                let s = settings(64, order, 1.0);
-                let what = format!("{} {name} {order:?}", scene.name);
-                let d = compare(g, &vol, &scene.mapping, &view, &s, &what);
-                eprintln!("{what}: largest difference {d:e}");
-                n += 1;
+                for method in METHODS {
+                    let s = with_method(64, order, method);
+                    let what = format!("{} {name} {order:?} {method}", scene.name);
+                    let d = compare(g, &vol, &scene.mapping, &view, &s, &what);
+                    eprintln!("{what}: largest difference {d:e}");
+                    n += 1;
+                }
             }
         }
     }
-    assert!(n >= 12, "{n} renders");
+    assert!(n >= 24, "{n} renders");
 }
 
 #[test]
@@ -330,8 +340,11 @@ fn mirrored_and_axis_aligned_views_match_the_cpu() {
             ..View::default()
         };
         for order in [Order::BackToFront, Order::FrontToBack] {
-            let s = settings(96, order, 2.0);
-            compare(g, &vol, &mapping, &view, &s, name);
+            for method in METHODS {
+                let s = with_method(96, order, method);
+                let d = compare(g, &vol, &mapping, &view, &s, name);
+                eprintln!("{name} {order:?} {method}: largest difference {d:e}");
+            }
         }
     }
 }
