@@ -575,3 +575,76 @@ fn non_convex_meshes_and_cavities_match_the_cpu() {
         }
     }
 }
+
+fn inside_view(eye: [f64; 3], reference: [f64; 3], fovy: f64, near: f64) -> View {
+    View {
+        look_at: vorang::scene::LookAt {
+            eye,
+            reference,
+            up: [0.0, 1.0, 0.0],
+        },
+        camera: Some(vorang::scene::Camera::Persp {
+            fovy,
+            aspect: 1.0,
+            near,
+            far: 9.0,
+        }),
+        ..View::default()
+    }
+}
+
+/// The eye inside the volume, inside a cavity, and a near plane cutting the volume: the rays
+/// start in the cells that reach in front of the near plane, as the CPU's do.
+#[test]
+fn the_eye_inside_the_volume_matches_the_cpu() {
+    let Some(g) = gpu() else { return };
+    let (nodes, tets) = vorang::mesh::generate::kuhn_box([3, 3, 3], [1.0; 3], 0.1, 8);
+    let convex = with_field(nodes, tets);
+    let mut rng = SplitMix64(17);
+    let holes = carved([4, 4, 4], 0.12, 5, |_| rng.next_f64() > 0.03);
+    let inner = |c: [f64; 3]| c.iter().all(|&v| (0.3..0.7).contains(&v));
+    let cavity = carved([5, 5, 5], 0.1, 3, |c| !inner(c));
+    let scenes = [
+        (
+            "convex, eye inside",
+            convex.clone(),
+            inside_view([0.1, -0.05, 0.15], [-0.3, 0.1, -1.0], 70.0, 0.05),
+        ),
+        (
+            "convex, near plane through it",
+            convex,
+            inside_view([0.2, 0.3, 0.9], [0.0; 3], 50.0, 0.6),
+        ),
+        (
+            "holes, eye inside",
+            holes,
+            inside_view([0.05, 0.1, -0.1], [1.0, 0.6, -0.4], 80.0, 0.02),
+        ),
+        (
+            "cavity, eye in it",
+            cavity,
+            inside_view([0.02, -0.03, 0.01], [0.3, 0.2, -1.0], 90.0, 0.01),
+        ),
+    ];
+    for (name, volume, view) in scenes {
+        let mapping = accuracy::scalar_maps(&volume);
+        let vol = Arc::new(volume);
+        // The rays that start at the near plane or behind it in a cell reaching in front of it.
+        let s = with_method(64, Order::BackToFront, METHODS[0]);
+        let data = frame::prepare(&vol, &mapping, &view, &s, g.exact_fma()).unwrap();
+        let near = data.lists[64 * 64 + 1..]
+            .iter()
+            .filter(|&&c| c & twin::NEAR_ENTRY != 0)
+            .count();
+        eprintln!("{name}: {near} entries into near-clipped cells");
+        assert!(near > 0, "{name}: no ray starts in a near-clipped cell");
+        for order in [Order::BackToFront, Order::FrontToBack] {
+            for method in METHODS {
+                let s = with_method(64, order, method);
+                let what = format!("{name} {order:?} {method}");
+                let d = compare(g, &vol, &mapping, &view, &s, &what);
+                eprintln!("{what}: largest difference {d:e}");
+            }
+        }
+    }
+}

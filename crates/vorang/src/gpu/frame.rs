@@ -7,13 +7,16 @@
 
 use rayon::prelude::*;
 
-use super::twin::{self, Corner, slot};
+use super::twin::{self, Corner, NEAR_ENTRY, slot};
 use crate::error::Error;
 use crate::framebuffer::{Background, Framebuffer};
 use crate::mapping::{Mapping, Transfer1D};
 use crate::mesh::FACE_NODES;
 use crate::predicates::entry_sign;
-use crate::render::{Method, Order, Placed, Settings, lines, place_nodes};
+use crate::render::cell::{CellRays, EyeCell};
+use crate::render::footprint::{Footprint, footprint_into};
+use crate::render::raster::rasterize;
+use crate::render::{Method, Order, Placed, Rect, Settings, TOUCH, lines, place_nodes};
 use crate::scene::{Projector, View};
 use crate::volume::Volume;
 
@@ -95,21 +98,20 @@ pub fn prepare(
     let placed = place_nodes(vol, view, settings)?;
     let (dmin, dmax) = placed.projector.depth();
     let perspective = placed.projector.is_perspective();
-    if perspective
-        && placed
-            .eye_nodes
-            .iter()
-            .any(|p| (-p[2]).partial_cmp(&dmin).is_none_or(|o| o.is_lt()))
-    {
-        return Err(Error::Invalid(
-            "the GPU backend does not render cells reaching in front of the near plane yet (the eye inside or close to the volume); use 'backend cpu'".into(),
-        ));
+    if vol.mesh.tet_count() >= NEAR_ENTRY as usize / 4 {
+        return Err(Error::Invalid(format!(
+            "the GPU backend renders meshes of fewer than {} cells; use 'backend cpu'",
+            NEAR_ENTRY / 4
+        )));
     }
     let nodes = node_data(vol, &placed, &transfer, method, perspective)?;
     let stride = node_stride(method);
     let (width, height) = (settings.width, settings.height);
     let sign = i32::from(entry_sign(placed.mirrored));
-    let lists = boundary_entries(vol, &nodes, stride, [width, height], sign, perspective, fma);
+    let clipped = near_clipped(vol, &placed, dmin);
+    let mut hits = boundary_entries(vol, &nodes, stride, [width, height], sign, &clipped, fma);
+    hits.extend(near_entries(vol, &placed, [width, height], &clipped));
+    let lists = entry_lists(hits, width * height);
     let edges = lines::edges(vol, &settings.lines)?;
     let line_depth = if edges.is_empty() {
         None
@@ -146,6 +148,8 @@ pub fn prepare(
     consts[slot::NODE] = stride as f64;
     consts[slot::METHOD] = f64::from(u8::from(method == GpuMethod::InterpolateCoeff));
     let planes = placed.projector.ray_planes();
+    consts[slot::MAX_SPEED] = planes.max_speed;
+    consts[slot::INFINITY] = f64::INFINITY;
     for r in 0..3 {
         for k in 0..3 {
             consts[slot::PLANES + 3 * r + k] = planes.origin[r][k];
@@ -226,9 +230,11 @@ fn boundary_entries(
     stride: usize,
     [width, height]: [usize; 2],
     sign: i32,
-    perspective: bool,
+    clipped: &[bool],
     fma: bool,
-) -> Vec<u32> {
+) -> Vec<(u32, f64, u32)> {
+    // Only perspective views mark cells (a mesh without cells has no faces either).
+    let perspective = !clipped.is_empty();
     let tets = vol.mesh.tets();
     let corner = |n: u32| {
         let i = stride * n as usize;
@@ -240,8 +246,9 @@ fn boundary_entries(
         }
     };
     let faces: Vec<(usize, usize)> = vol.mesh.boundary_faces().collect();
-    let mut hits: Vec<(u32, f64, u32)> = faces
+    faces
         .par_iter()
+        .filter(|&&(cell, _)| !clipped.get(cell).copied().unwrap_or(false))
         .flat_map_iter(|&(cell, f)| {
             let k = FACE_NODES[f].map(|l| corner(tets[cell][l]));
             let s = k.map(|c| c.p);
@@ -273,9 +280,82 @@ fn boundary_entries(
             }
             out
         })
-        .collect();
+        .collect()
+}
+
+/// Per cell whether it reaches in front of the perspective near plane (`render::footprint`:
+/// its pixels then come from its planes); empty for an orthographic view.
+fn near_clipped(vol: &Volume, placed: &Placed, dmin: f64) -> Vec<bool> {
+    if !placed.projector.is_perspective() {
+        return Vec::new();
+    }
+    vol.mesh
+        .tets()
+        .par_iter()
+        .map(|t| t.iter().any(|&n| -placed.eye_nodes[n as usize][2] < dmin))
+        .collect()
+}
+
+/// The pixels of every near-clipped cell, as the CPU draws them (`render::tile`'s per-ray path
+/// without faces): its footprint cut at the near plane, rasterized, and the ray's interval from
+/// the cell's planes where it is longer than a touch; the entry's depth is where the interval
+/// starts behind the near plane.
+fn near_entries(
+    vol: &Volume,
+    placed: &Placed,
+    [width, height]: [usize; 2],
+    clipped: &[bool],
+) -> Vec<(u32, f64, u32)> {
+    let tets = vol.mesh.tets();
+    let projector = &placed.projector;
+    let (dmin, _) = projector.depth();
+    let rect = Rect {
+        x0: 0,
+        y0: 0,
+        x1: width,
+        y1: height,
+    };
+    (0..clipped.len())
+        .into_par_iter()
+        .filter(|&c| clipped[c])
+        .flat_map_iter(|cell| {
+            let mut out = Vec::new();
+            let ids = tets[cell];
+            let eye = ids.map(|n| placed.eye_nodes[n as usize]);
+            let screen = ids.map(|n| placed.screen[n as usize]);
+            let mut fp = Footprint::empty();
+            if !EyeCell::is_proper(&eye) || !footprint_into(ids, &eye, &screen, projector, &mut fp)
+            {
+                return out;
+            }
+            let Some(ec) = EyeCell::new(&eye) else {
+                return out;
+            };
+            let rays = CellRays::new(&ec, projector);
+            let (lo, hi) = eye
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(-p[2]), hi.max(-p[2]))
+                });
+            let touch = TOUCH * (hi - lo);
+            for k in 0..fp.count {
+                rasterize::<false>(&fp.tris[k], rect, |x, y, _| {
+                    let iv = rays.interval(x as f64 + 0.5, y as f64 + 0.5);
+                    if let Some(iv) = iv.filter(|iv| iv.far - iv.near > touch) {
+                        let code = NEAR_ENTRY | cell as u32;
+                        out.push(((y * width + x) as u32, iv.near.max(dmin), code));
+                    }
+                });
+            }
+            out
+        })
+        .collect()
+}
+
+/// The march's lists from every pixel's entries: the offsets of the `pixels` lists (and the
+/// end), then each pixel's entries nearest first.
+fn entry_lists(mut hits: Vec<(u32, f64, u32)>, pixels: usize) -> Vec<u32> {
     hits.par_sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    let pixels = width * height;
     let mut lists = Vec::with_capacity(pixels + 1 + hits.len());
     let mut at = 0;
     for p in 0..=pixels {

@@ -273,6 +273,42 @@ fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     ]
 }
 
+/// `NEAR_ENTRY`: a pixel's entry into a near-clipped cell (the cell number with this bit).
+pub const NEAR_ENTRY: u32 = 0x8000_0000;
+/// `PARALLEL` (render::cell's tolerance for rays parallel to a face plane).
+const PARALLEL: f64 = 1e-12;
+
+/// `Line`: a cell's barycentric coordinates `a + τ·b` along a ray, and the tolerances.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Line {
+    pub a: [f64; 4],
+    pub b: [f64; 4],
+    pub tol: [f64; 4],
+}
+
+/// `clip_line`: the near and far depth and the exit face (`render::cell`'s clip).
+fn clip_line(line: &Line, infinity: f64) -> Option<(f64, f64, usize)> {
+    let (mut near, mut far, mut exit) = (-infinity, infinity, 0);
+    for i in 0..4 {
+        if line.b[i].abs() <= line.tol[i] {
+            if line.a[i] < -1e-9 {
+                return None;
+            }
+            continue;
+        }
+        let t = -line.a[i] / line.b[i];
+        if line.b[i] > 0.0 {
+            if t > near {
+                near = t;
+            }
+        } else if t < far {
+            far = t;
+            exit = i;
+        }
+    }
+    (near < far).then_some((near, far, exit))
+}
+
 /// `MAX_DEPTH`: the largest end depth of a segment summed by the series.
 pub const MAX_DEPTH: f64 = 0.5;
 const MAX_TERMS: u32 = 64;
@@ -382,8 +418,12 @@ pub mod slot {
     pub const METHOD: usize = 17;
     /// The rays' origin rows (9 numbers), then their direction rows (`scene::RayPlanes`).
     pub const PLANES: usize = 18;
+    /// `scene::RayPlanes::max_speed`.
+    pub const MAX_SPEED: usize = 36;
+    /// +∞.
+    pub const INFINITY: usize = 37;
     /// The knots, then per piece `from, base[4], slope[4]`.
-    pub const TABLE: usize = 36;
+    pub const TABLE: usize = 38;
 }
 
 /// `EARLY_TERMINATION`, `NEGLIGIBLE`.
@@ -551,8 +591,9 @@ impl Buffers<'_> {
         g[0] * c[at + k] + g[1] * c[at + 3 + k] + g[2] * c[at + 6 + k]
     }
 
-    /// `cell_line`: `(a, b)` of `λ(τ) = a + τ·b`, `None` for a flat cell.
-    pub fn cell_line(&self, tet: [u32; 4], p: [f64; 2]) -> Option<([f64; 4], [f64; 4])> {
+    /// `cell_line`: `λ(τ) = a + τ·b` (and the tolerances where `with_tol`), `None` for a flat
+    /// cell.
+    pub fn cell_line(&self, tet: [u32; 4], p: [f64; 2], with_tol: bool) -> Option<Line> {
         let c = tet.map(|n| self.eye_of(n));
         let sub = |u: [f64; 3], v: [f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
         let (e1, e2, e3) = (sub(c[1], c[0]), sub(c[2], c[0]), sub(c[3], c[0]));
@@ -568,7 +609,7 @@ impl Buffers<'_> {
         );
         let g0 = [0, 1, 2].map(|k| -(g1[k] + g2[k] + g3[k]));
         let g = [g0, g1, g2, g3];
-        let (mut a, mut b) = ([0.0; 4], [0.0; 4]);
+        let (mut a, mut b, mut tol) = ([0.0; 4], [0.0; 4], [0.0; 4]);
         for i in 0..4 {
             let h = 1.0 - dot3(g[i], c[i]);
             let a0 = self.plane(slot::PLANES, g[i], 0) + h;
@@ -579,8 +620,49 @@ impl Buffers<'_> {
             let b2 = self.plane(slot::PLANES + 9, g[i], 2);
             a[i] = a0 + a1 * p[0] + a2 * p[1];
             b[i] = b0 + b1 * p[0] + b2 * p[1];
+            if with_tol {
+                tol[i] = PARALLEL * dot3(g[i], g[i]).sqrt() * self.consts[slot::MAX_SPEED];
+            }
         }
-        Some((a, b))
+        Some(Line { a, b, tol })
+    }
+
+    /// `near_clipped`.
+    fn near_clipped(&self, tet: [u32; 4]) -> bool {
+        if !self.flag(slot::PERSPECTIVE) {
+            return false;
+        }
+        let dmin = self.consts[slot::DMIN];
+        tet.iter().any(|&n| -self.eye_of(n)[2] < dmin)
+    }
+
+    /// `near_step`: `(b, θ)`, then the next cell and its entry depth.
+    fn near_step(
+        &self,
+        cell: u32,
+        p: [f64; 2],
+        dmax: f64,
+        speed: f64,
+    ) -> (Contribution, Option<(u32, f64)>) {
+        let none = (([0.0; 3], 1.0), None);
+        let tet = self.mesh[2 * cell as usize];
+        let Some(line) = self.cell_line(tet, p, true) else {
+            return none;
+        };
+        let Some((iv_near, iv_far, exit)) = clip_line(&line, self.consts[slot::INFINITY]) else {
+            return none;
+        };
+        let near = iv_near.max(self.consts[slot::DMIN]);
+        let far = iv_far.min(dmax);
+        let mut c = ([0.0; 3], 1.0);
+        if near < far {
+            c = self.contribution(tet, &line, near, far, (far - near) * speed);
+        }
+        let next = self.mesh[2 * cell as usize + 1][exit];
+        if next != NO_NEIGHBOR && !self.near_clipped(self.mesh[2 * next as usize]) {
+            return (c, Some((next, self.hit(tet, exit, p)[0])));
+        }
+        (c, None)
     }
 
     /// `interpolate`.
@@ -599,11 +681,12 @@ impl Buffers<'_> {
     fn contribution(
         &self,
         tet: [u32; 4],
-        (a, b): ([f64; 4], [f64; 4]),
+        line: &Line,
         near: f64,
         far: f64,
         length: f64,
     ) -> Contribution {
+        let (a, b) = (line.a, line.b);
         if self.consts[slot::METHOD] == 0.0 {
             let v = tet.map(|n| self.nodes[self.node_at(n) + 6]);
             let s0 = a[0] * v[0] + a[1] * v[1] + a[2] * v[2] + a[3] * v[3];
@@ -671,10 +754,26 @@ impl Buffers<'_> {
         let (first, last) = (self.lists[pix], self.lists[pix + 1]);
         for e in first..last {
             let entry = self.lists[e as usize];
-            let mut cell = entry >> 2;
-            let mut tet = self.mesh[2 * cell as usize];
-            let into = self.hit(tet, (entry & 3) as usize, p);
-            let mut d_in = into[0];
+            let (mut cell, mut tet, mut d_in);
+            if entry & NEAR_ENTRY != 0 {
+                if t < stop || steps > cells {
+                    break;
+                }
+                steps += 1;
+                let (c, next) = self.near_step(entry & !NEAR_ENTRY, p, dmax, speed);
+                color = [0, 1, 2].map(|k| color[k] + t * c.0[k]);
+                t *= c.1;
+                let Some((next, d)) = next else {
+                    continue;
+                };
+                cell = next;
+                tet = self.mesh[2 * cell as usize];
+                d_in = d;
+            } else {
+                cell = entry >> 2;
+                tet = self.mesh[2 * cell as usize];
+                d_in = self.hit(tet, (entry & 3) as usize, p)[0];
+            }
             loop {
                 if t < stop || !(d_in < dmax) || steps > cells {
                     break;
@@ -690,14 +789,14 @@ impl Buffers<'_> {
                 let near = d_in.max(dmin);
                 let far = d_out.min(dmax);
                 if near < far
-                    && let Some(line) = self.cell_line(tet, p)
+                    && let Some(line) = self.cell_line(tet, p, false)
                 {
-                    let (b, theta) = self.contribution(tet, line, near, far, (far - near) * speed);
+                    let (b, theta) = self.contribution(tet, &line, near, far, (far - near) * speed);
                     color = [0, 1, 2].map(|k| color[k] + t * b[k]);
                     t *= theta;
                 }
                 let next = self.mesh[2 * cell as usize + 1][x];
-                if next == NO_NEIGHBOR {
+                if next == NO_NEIGHBOR || self.near_clipped(self.mesh[2 * next as usize]) {
                     break;
                 }
                 cell = next;

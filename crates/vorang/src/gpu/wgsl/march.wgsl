@@ -40,7 +40,15 @@ const METHOD: u32 = 17u;
 // The rays' origin and direction as affine functions of the screen position
 // (scene::RayPlanes): origin[r][k] at PLANES + 3r + k, direction at PLANES + 9 + 3r + k.
 const PLANES: u32 = 18u;
-const TABLE: u32 = 36u;
+// scene::RayPlanes::max_speed, and +∞ (WGSL has no literal for it).
+const MAX_SPEED: u32 = 36u;
+const INFINITY: u32 = 37u;
+const TABLE: u32 = 38u;
+// A pixel's entry into a cell that reaches in front of the perspective near plane: the cell
+// number with this bit set (else 4·cell + face of a boundary face).
+const NEAR_ENTRY: u32 = 0x80000000u;
+// render::cell's PARALLEL.
+const PARALLEL: f64 = 1e-12lf;
 const METHOD_EXACT: f64 = 0.0lf;
 const F64_MAX: f64 = 1.7976931348623157e308lf;
 const NO_NEIGHBOR: u32 = 0xffffffffu;
@@ -187,6 +195,8 @@ fn cross3(a: vec3<f64>, b: vec3<f64>) -> vec3<f64> {
 struct Line {
     a: vec4<f64>,
     b: vec4<f64>,
+    // CellRays' tolerance for rays parallel to a face plane (only where asked for).
+    tol: vec4<f64>,
     proper: bool,
 }
 
@@ -197,13 +207,13 @@ fn plane(at: u32, g: vec3<f64>, k: u32) -> f64 {
 // render::cell's EyeCell::new (mesh::barycentric_gradients), CellRays::new and CellRays::line,
 // operation for operation: the CPU's per-ray path takes the field from these, so the GPU takes
 // it from the same bits. Not proper for a flat cell, which the CPU does not draw.
-fn cell_line(tet: vec4<u32>, p: vec2<f64>) -> Line {
+fn cell_line(tet: vec4<u32>, p: vec2<f64>, with_tol: bool) -> Line {
     let c = array<vec3<f64>, 4>(eye_of(tet.x), eye_of(tet.y), eye_of(tet.z), eye_of(tet.w));
     let e1 = c[1] - c[0];
     let e2 = c[2] - c[0];
     let e3 = c[3] - c[0];
     let det = dot3(cross3(e1, e2), e3);
-    var line = Line(vec4<f64>(0.0lf), vec4<f64>(0.0lf), false);
+    var line = Line(vec4<f64>(0.0lf), vec4<f64>(0.0lf), vec4<f64>(0.0lf), false);
     if (!(det != 0.0lf && abs(det) <= F64_MAX)) {
         return line;
     }
@@ -221,9 +231,84 @@ fn cell_line(tet: vec4<u32>, p: vec2<f64>) -> Line {
         let b2 = plane(PLANES + 9u, g[i], 2u);
         line.a[i] = a0 + a1 * p.x + a2 * p.y;
         line.b[i] = b0 + b1 * p.x + b2 * p.y;
+        if (with_tol) {
+            line.tol[i] = PARALLEL * sqrt(dot3(g[i], g[i])) * consts[MAX_SPEED];
+        }
     }
     line.proper = true;
     return line;
+}
+
+// The ray's interval in a cell from its planes (render::cell's clip): near and far depth, the
+// exit face; none where the ray misses the cell.
+struct Clip {
+    near: f64,
+    far: f64,
+    exit: u32,
+    ok: bool,
+}
+
+fn clip_line(line: Line) -> Clip {
+    var c = Clip(-consts[INFINITY], consts[INFINITY], 0u, false);
+    for (var i = 0u; i < 4u; i++) {
+        if (abs(line.b[i]) <= line.tol[i]) {
+            if (line.a[i] < -1e-9lf) {
+                return c;
+            }
+            continue;
+        }
+        let t = -line.a[i] / line.b[i];
+        if (line.b[i] > 0.0lf) {
+            if (t > c.near) {
+                c.near = t;
+            }
+        } else if (t < c.far) {
+            c.far = t;
+            c.exit = i;
+        }
+    }
+    c.ok = c.near < c.far;
+    return c;
+}
+
+// Whether a cell reaches in front of the perspective near plane (render::footprint: its pixels
+// then come from its planes, not from its faces).
+fn near_clipped(tet: vec4<u32>) -> bool {
+    if (consts[PERSPECTIVE] == 0.0lf) {
+        return false;
+    }
+    let dmin = consts[DMIN];
+    return -eye_of(tet.x).z < dmin || -eye_of(tet.y).z < dmin || -eye_of(tet.z).z < dmin || -eye_of(tet.w).z < dmin;
+}
+
+// What a near-clipped cell gives a pixel (RayCell::interval from the planes, clipped to the
+// camera's range), and where the march goes on: into the neighbour across its exit face,
+// unless that one is near-clipped too (it has an entry of its own) or there is none.
+struct NearStep {
+    c: Contribution,
+    next: u32,
+    d_next: f64,
+}
+
+fn near_step(cell: u32, p: vec2<f64>, dmax: f64, speed: f64) -> NearStep {
+    var r = NearStep(Contribution(vec3<f64>(0.0lf), 1.0lf), NO_NEIGHBOR, 0.0lf);
+    let tet = mesh[2u * cell];
+    let line = cell_line(tet, p, true);
+    let iv = clip_line(line);
+    if (!line.proper || !iv.ok) {
+        return r;
+    }
+    let near = max(iv.near, consts[DMIN]);
+    let far = min(iv.far, dmax);
+    if (near < far) {
+        r.c = contribution(tet, line, near, far, (far - near) * speed);
+    }
+    let next = mesh[2u * cell + 1u][iv.exit];
+    if (next != NO_NEIGHBOR && !near_clipped(mesh[2u * next])) {
+        r.next = next;
+        r.d_next = hit(tet, iv.exit, p).x;
+    }
+    return r;
 }
 
 // interpolateCoeff's (η, χ) at barycentric coordinates l from the coefficients mapped at the
@@ -284,10 +369,28 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
     let first = lists[pix];
     let last = lists[pix + 1u];
     for (var e = first; e < last; e++) {
-        var cell = lists[e] >> 2u;
-        var tet = mesh[2u * cell];
-        let into = hit(tet, lists[e] & 3u, p);
-        var d_in = into.x;
+        var cell = 0u;
+        var tet = vec4<u32>(0u);
+        var d_in = 0.0lf;
+        if ((lists[e] & NEAR_ENTRY) != 0u) {
+            if (t < stop || steps > cells) {
+                break;
+            }
+            steps++;
+            let step = near_step(lists[e] & ~NEAR_ENTRY, p, dmax, speed);
+            color = color + t * step.c.b;
+            t = t * step.c.theta;
+            if (step.next == NO_NEIGHBOR) {
+                continue;
+            }
+            cell = step.next;
+            tet = mesh[2u * cell];
+            d_in = step.d_next;
+        } else {
+            cell = lists[e] >> 2u;
+            tet = mesh[2u * cell];
+            d_in = hit(tet, lists[e] & 3u, p).x;
+        }
         loop {
             if (t < stop || !(d_in < dmax) || steps > cells) {
                 break;
@@ -304,7 +407,7 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
             let near = max(d_in, dmin);
             let far = min(d_out, dmax);
             if (near < far) {
-                let line = cell_line(tet, p);
+                let line = cell_line(tet, p, false);
                 if (line.proper) {
                     let c = contribution(tet, line, near, far, (far - near) * speed);
                     color = color + t * c.b;
@@ -312,7 +415,7 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
                 }
             }
             let next = mesh[2u * cell + 1u][x];
-            if (next == NO_NEIGHBOR) {
+            if (next == NO_NEIGHBOR || near_clipped(mesh[2u * next])) {
                 break;
             }
             cell = next;
