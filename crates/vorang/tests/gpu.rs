@@ -648,3 +648,76 @@ fn the_eye_inside_the_volume_matches_the_cpu() {
         }
     }
 }
+
+/// What the GPU does not render is refused with the method's name (no adapter needed).
+#[test]
+fn methods_not_on_the_gpu_are_named() {
+    for (method, named) in [
+        ("interpolateColor 1", "method interpolateColor"),
+        ("test 0.3", "method test"),
+        ("exact constEA 0 1", "method exact constEA"),
+        ("exact linear 0.1 1", "method exact linear 0.1"),
+        (
+            "interpolateCoeff constEA 1",
+            "method interpolateCoeff constEA",
+        ),
+    ] {
+        let words: Vec<&str> = method.split_whitespace().collect();
+        let e = frame::check_method(&Method::parse(&words).unwrap()).unwrap_err();
+        assert!(e.starts_with(named) && e.contains("backend cpu"), "{e}");
+    }
+    for method in METHODS {
+        let words: Vec<&str> = method.split_whitespace().collect();
+        assert!(frame::check_method(&Method::parse(&words).unwrap()).is_ok());
+    }
+}
+
+/// A mesh larger than one buffer binding holds is split across the march's mesh bindings (its
+/// own device here, with the bindings made small), and renders the CPU's image; one that needs
+/// more bindings than the march has is refused with a message.
+#[test]
+fn a_mesh_split_across_bindings_matches_the_cpu() {
+    if gpu().is_none() {
+        return;
+    }
+    let g = Gpu::open().unwrap();
+    let (nodes, tets) = vorang::mesh::generate::kuhn_box([6, 5, 4], [1.0, 0.8, 0.7], 0.1, 2);
+    let vol = Arc::new(with_field(nodes, tets));
+    let mapping = accuracy::scalar_maps(&vol);
+    let view = accuracy::views(&accuracy::Scene {
+        name: "split",
+        what: "",
+        volume: (*vol).clone(),
+        mapping: mapping.clone(),
+    })
+    .remove(0)
+    .1;
+    // 720 cells, 1440 rows of 16 bytes: 400 rows a binding make four parts.
+    g.limit_mesh_bindings(400 * 16);
+    for method in METHODS {
+        let s = with_method(64, Order::FrontToBack, method);
+        let d = compare(&g, &vol, &mapping, &view, &s, &format!("split {method}"));
+        eprintln!("mesh in 4 bindings, {method}: largest difference {d:e}");
+    }
+    g.limit_mesh_bindings(300 * 16);
+    let s = with_method(64, Order::FrontToBack, METHODS[0]);
+    let e = g.render(&vol, &mapping, &view, &s).unwrap_err().to_string();
+    assert!(e.contains("720 cells") && e.contains("backend cpu"), "{e}");
+}
+
+/// The device's memory per cell: 32 bytes of cells, and the nodes' share (per node 7 numbers,
+/// 10 for interpolateCoeff) on a generated box, the shape of the benchmark's meshes.
+#[test]
+fn gpu_memory_per_cell_stays_within_50_bytes() {
+    let (nodes, tets) = vorang::mesh::generate::kuhn_box([20, 20, 20], [1.0; 3], 0.1, 1);
+    let vol = Arc::new(with_field(nodes, tets));
+    let mapping = accuracy::scalar_maps(&vol);
+    for method in METHODS {
+        let s = with_method(64, Order::FrontToBack, method);
+        let data = frame::prepare(&vol, &mapping, &View::default(), &s, false).unwrap();
+        let cells = vol.mesh.tet_count() as f64;
+        let per_cell = (32.0 * cells + 8.0 * data.nodes.len() as f64) / cells;
+        eprintln!("{method}: {per_cell:.1} bytes per cell on the GPU");
+        assert!(per_cell <= 50.0, "{method}: {per_cell} bytes per cell");
+    }
+}

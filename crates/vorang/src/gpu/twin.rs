@@ -422,8 +422,10 @@ pub mod slot {
     pub const MAX_SPEED: usize = 36;
     /// +∞.
     pub const INFINITY: usize = 37;
+    /// The rows of the mesh per binding (set by the device, not read by the twins).
+    pub const PART_ROWS: usize = 38;
     /// The knots, then per piece `from, base[4], slope[4]`.
-    pub const TABLE: usize = 38;
+    pub const TABLE: usize = 39;
 }
 
 /// `EARLY_TERMINATION`, `NEGLIGIBLE`.

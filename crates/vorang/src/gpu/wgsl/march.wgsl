@@ -3,8 +3,12 @@
 // cell's interval with the exact linear rule cut at the transfer function's knots, and
 // composites front to back. Twin: gpu/twin.rs, pixel.
 
-// Per cell: its nodes, then its neighbours across faces 0..3 (0xffffffff: none).
+// Per cell: its nodes, then its neighbours across faces 0..3 (0xffffffff: none); a mesh larger
+// than one binding holds continues in mesh1, mesh2, mesh3 (consts[PART_ROWS] rows each).
 @group(0) @binding(0) var<storage, read> mesh: array<vec4<u32>>;
+@group(0) @binding(6) var<storage, read> mesh1: array<vec4<u32>>;
+@group(0) @binding(7) var<storage, read> mesh2: array<vec4<u32>>;
+@group(0) @binding(8) var<storage, read> mesh3: array<vec4<u32>>;
 // Per node (consts[NODE] numbers): screen x, y, depth (orthographic) or inverse depth
 // (perspective), eye-space x, y, z, then the field value (exact) or η (r, g, b) and χ mapped at
 // the node (interpolateCoeff).
@@ -43,7 +47,9 @@ const PLANES: u32 = 18u;
 // scene::RayPlanes::max_speed, and +∞ (WGSL has no literal for it).
 const MAX_SPEED: u32 = 36u;
 const INFINITY: u32 = 37u;
-const TABLE: u32 = 38u;
+// The rows of the mesh in each of its bindings.
+const PART_ROWS: u32 = 38u;
+const TABLE: u32 = 39u;
 // A pixel's entry into a cell that reaches in front of the perspective near plane: the cell
 // number with this bit set (else 4·cell + face of a boundary face).
 const NEAR_ENTRY: u32 = 0x80000000u;
@@ -55,6 +61,28 @@ const NO_NEIGHBOR: u32 = 0xffffffffu;
 // render::EARLY_TERMINATION for render_ftb; back to front nothing behind this shows.
 const EARLY_TERMINATION: f64 = 1e-6lf;
 const NEGLIGIBLE: f64 = 1e-20lf;
+
+// Row i of the mesh (2·cell: its nodes, 2·cell + 1: its neighbours), in whichever binding holds
+// it.
+fn mesh_at(i: u32) -> vec4<u32> {
+    let rows = u32(consts[PART_ROWS]);
+    let part = i / rows;
+    let j = i - part * rows;
+    switch part {
+        case 0u: {
+            return mesh[j];
+        }
+        case 1u: {
+            return mesh1[j];
+        }
+        case 2u: {
+            return mesh2[j];
+        }
+        default: {
+            return mesh3[j];
+        }
+    }
+}
 
 fn exact_fma() -> bool {
     return consts[EXACT_FMA] != 0.0lf;
@@ -292,7 +320,7 @@ struct NearStep {
 
 fn near_step(cell: u32, p: vec2<f64>, dmax: f64, speed: f64) -> NearStep {
     var r = NearStep(Contribution(vec3<f64>(0.0lf), 1.0lf), NO_NEIGHBOR, 0.0lf);
-    let tet = mesh[2u * cell];
+    let tet = mesh_at(2u * cell);
     let line = cell_line(tet, p, true);
     let iv = clip_line(line);
     if (!line.proper || !iv.ok) {
@@ -303,8 +331,8 @@ fn near_step(cell: u32, p: vec2<f64>, dmax: f64, speed: f64) -> NearStep {
     if (near < far) {
         r.c = contribution(tet, line, near, far, (far - near) * speed);
     }
-    let next = mesh[2u * cell + 1u][iv.exit];
-    if (next != NO_NEIGHBOR && !near_clipped(mesh[2u * next])) {
+    let next = mesh_at(2u * cell + 1u)[iv.exit];
+    if (next != NO_NEIGHBOR && !near_clipped(mesh_at(2u * next))) {
         r.next = next;
         r.d_next = hit(tet, iv.exit, p).x;
     }
@@ -384,11 +412,11 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
                 continue;
             }
             cell = step.next;
-            tet = mesh[2u * cell];
+            tet = mesh_at(2u * cell);
             d_in = step.d_next;
         } else {
             cell = lists[e] >> 2u;
-            tet = mesh[2u * cell];
+            tet = mesh_at(2u * cell);
             d_in = hit(tet, lists[e] & 3u, p).x;
         }
         loop {
@@ -414,12 +442,12 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
                     t = t * c.theta;
                 }
             }
-            let next = mesh[2u * cell + 1u][x];
-            if (next == NO_NEIGHBOR || near_clipped(mesh[2u * next])) {
+            let next = mesh_at(2u * cell + 1u)[x];
+            if (next == NO_NEIGHBOR || near_clipped(mesh_at(2u * next))) {
                 break;
             }
             cell = next;
-            tet = mesh[2u * cell];
+            tet = mesh_at(2u * cell);
             d_in = out.x;
         }
     }
