@@ -248,9 +248,9 @@ fn compare(
     if let Some(i) = bits_equal(&image, &twin_image) {
         panic!(
             "{what}: pixel {} differs from its twin: {:?} vs {:?}",
-            i / 4,
-            &image[i / 4 * 4..i / 4 * 4 + 4],
-            &twin_image[i / 4 * 4..i / 4 * 4 + 4]
+            i / 5,
+            &image[i / 5 * 5..i / 5 * 5 + 5],
+            &twin_image[i / 5 * 5..i / 5 * 5 + 5]
         );
     }
     let mut worst = (0.0f64, 0);
@@ -719,5 +719,41 @@ fn gpu_memory_per_cell_stays_within_50_bytes() {
         let per_cell = (32.0 * cells + 8.0 * data.nodes.len() as f64) / cells;
         eprintln!("{method}: {per_cell:.1} bytes per cell on the GPU");
         assert!(per_cell <= 50.0, "{method}: {per_cell} bytes per cell");
+    }
+}
+
+/// Grid lines (every edge: the rays end at the nearest line) and a coloured background, with a
+/// non-convex mesh, both projections, both orders.
+#[test]
+fn grid_lines_and_backgrounds_match_the_cpu() {
+    let Some(g) = gpu() else { return };
+    let mut rng = SplitMix64(29);
+    let volume = carved([3, 3, 3], 0.1, 9, |_| rng.next_f64() > 0.1);
+    let mapping = accuracy::scalar_maps(&volume);
+    let scene = accuracy::Scene {
+        name: "lines",
+        what: "",
+        volume,
+        mapping,
+    };
+    let vol = Arc::new(scene.volume.clone());
+    for (view_name, view) in accuracy::views(&scene) {
+        for order in [Order::BackToFront, Order::FrontToBack] {
+            for method in METHODS {
+                for background in [
+                    vorang::framebuffer::Background::Color([0.2, 0.1, 0.4]),
+                    vorang::framebuffer::Background::None,
+                ] {
+                    let s = Settings {
+                        lines: vorang::render::LineDraw::All,
+                        background,
+                        ..with_method(64, order, method)
+                    };
+                    let what = format!("lines {view_name} {order:?} {method}");
+                    let d = compare(g, &vol, &scene.mapping, &view, &s, &what);
+                    eprintln!("{what}: largest difference {d:e}");
+                }
+            }
+        }
     }
 }

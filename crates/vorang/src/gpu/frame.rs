@@ -1,8 +1,9 @@
 //! One frame's inputs to the march, prepared on the CPU, and its result turned into the
 //! framebuffer: the nodes on screen (the CPU renderer's own placement, sub-pixel grid
-//! included), each pixel's boundary entries in depth order (the watertight face rule: exact
-//! orientation and the top-left rule), the grid lines' depths, the frame's numbers and the
-//! transfer function. What the GPU backend cannot render yet is refused here with a message
+//! included) with their eye-space positions, each pixel's entries in depth order (boundary
+//! faces by the watertight face rule: exact orientation and the top-left rule; cells reaching
+//! in front of a perspective near plane where the CPU draws them), the grid lines' depths, the
+//! frame's numbers and the transfer function. What the GPU backend cannot render yet is refused here with a message
 //! that names it.
 
 use rayon::prelude::*;
@@ -79,7 +80,7 @@ pub struct FrameData {
     /// Per pixel the nearest grid line's depth; `None` without lines.
     pub lines: Option<Vec<f64>>,
     pub consts: Vec<f64>,
-    /// The frame's field at every node, to upload only when it changes.
+    /// How many entries the pixels' lists hold.
     pub entries: usize,
 }
 
@@ -397,7 +398,7 @@ pub fn finish(data: &FrameData, image: &[f64], settings: &Settings) -> Result<Fr
         } else {
             uniform.unwrap_or_else(|| pixels[i])
         };
-        let c = &image[4 * i..4 * i + 4];
+        let c = &image[5 * i..5 * i + 4];
         let t = c[3];
         let rgb = [0, 1, 2].map(|k| c[k] + t * bg[k]);
         let alpha = if line { 1.0 } else { 1.0 - t };

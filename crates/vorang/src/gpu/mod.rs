@@ -1,23 +1,27 @@
-//! The GPU backend (feature `gpu`): `exact linear 0` in f64 Vulkan compute shaders through
-//! wgpu, the same image as the CPU renderer (docs/gpu.md).
+//! The GPU backend (feature `gpu`): `exact linear 0` and `interpolateCoeff linear` in f64 Vulkan
+//! compute shaders through wgpu, the same image as the CPU renderer (docs/gpu.md).
 //!
 //! Image order, exact per pixel: one invocation per pixel enters the mesh at each of the
-//! pixel's boundary entry faces, nearest first ([`frame`]: the CPU lists them with the
-//! watertight face rule), and marches cell to cell through the exit face that holds the pixel
-//! centre (exact orientation predicates and the top-left rule, as `render::faces`). A face's
-//! depth and field value are computed from the face alone, so a cell's exit is its
-//! neighbour's entry bit for bit. Each interval is cut where the field crosses a knot of the
-//! transfer function and integrated with the exact linear rule, in the exp-free series of the
-//! span kernels: Vulkan defines no f64 `exp`, so optically thick segments are cut into thin
-//! ones. The colour is composited front to back (`render_ftb` stops where the CPU does).
+//! pixel's entries, nearest first ([`frame`]: the CPU lists the boundary faces that hold the
+//! pixel by the watertight face rule, and the cells reaching in front of a perspective near
+//! plane where its own renderer draws them), and marches cell to cell through the exit face
+//! that holds the pixel centre (exact orientation predicates and the top-left rule, as
+//! `render::faces`). A face's depth is computed from the face alone, so a cell's exit is its
+//! neighbour's entry bit for bit. In each cell the field comes from the cell's barycentric line
+//! along the ray, operation for operation as the CPU's per-ray path (`render::cell`); the
+//! interval is cut where the field crosses a knot of the transfer function and integrated with
+//! the exact linear rule, in the exp-free series of the span kernels: Vulkan defines no f64
+//! `exp`, so optically thick segments are cut into thin ones. The colour is composited front to
+//! back (`render_ftb` stops where the CPU does).
 //!
 //! Every WGSL function has a Rust twin with the same operations in the same order
 //! ([`twin`]); the GPU tests hold them bit-identical on lavapipe, and hold the images to the
-//! CPU renderer's within 1e-12.
+//! CPU renderer's within 1e-12 per channel.
 //!
 //! Memory: per cell its four nodes and four neighbours (32 bytes, uploaded once per mesh: the
-//! time steps of a series that share a mesh share the upload),
-//! per node four f64 per frame (screen position, depth, field value), per pixel its entries.
+//! time steps of a series that share a mesh share the upload; split across up to
+//! [`MESH_PARTS`] bindings), per node seven f64 per frame (ten for interpolateCoeff), per pixel
+//! its entries and five f64 of result.
 
 pub mod frame;
 pub mod spirv;
@@ -50,6 +54,9 @@ const PROBE_WGSL: &str = include_str!("wgsl/probe.wgsl");
 pub fn source() -> String {
     WGSL.iter().map(|(_, s)| *s).collect::<Vec<_>>().join("\n")
 }
+
+/// `Stats::sort` of a GPU frame (the timing line reads it: `bin` is then the upload).
+pub const GPU_SORT: &str = "none (GPU march)";
 
 /// The most buffers a mesh is split across (`mesh`, `mesh1` … `mesh3` in `march.wgsl`).
 pub const MESH_PARTS: usize = 4;
@@ -359,8 +366,13 @@ impl Gpu {
         let started = std::time::Instant::now();
         let data = frame::prepare(vol, mapping, view, settings, self.exact_fma)?;
         let setup = started.elapsed();
+        // The cells go to the device once per mesh: the first frame of a volume pays for it.
+        let uploading = std::time::Instant::now();
+        self.mesh_of(vol).map_err(Error::Invalid)?;
+        let upload = uploading.elapsed();
         let drawing = std::time::Instant::now();
         let image = self.march(vol, &data).map_err(Error::Invalid)?;
+        let segments: f64 = image.chunks(5).map(|p| p[4]).sum();
         let fb = frame::finish(&data, &image, settings)?;
         let non_finite = fb
             .pixels
@@ -369,9 +381,9 @@ impl Gpu {
         let stats = Stats {
             cells: vol.mesh.tet_count(),
             drawn: 0,
-            fragments: 0,
+            fragments: segments as u64,
             lane_fragments: 0,
-            sort: "none (GPU march)",
+            sort: GPU_SORT,
             convex: vol.mesh.is_convex(),
             cycle_cells: 0,
             per_pixel: true,
@@ -384,8 +396,10 @@ impl Gpu {
             first_non_finite: non_finite.map(|i| (i % fb.width, i / fb.width)),
             overlap_pixels: 0,
             overlap_cells: Vec::new(),
+            // On the GPU `bin` is the upload of the cells (zero once they are there).
             timing: crate::render::Timing {
                 setup,
+                bin: upload,
                 draw: drawing.elapsed(),
                 ..Default::default()
             },
@@ -415,7 +429,7 @@ impl Gpu {
         let consts = self.storage(bytemuck::cast_slice(&consts));
         let unused = self.storage(&[]);
         let part = |k: usize| mesh.get(k).unwrap_or(&unused);
-        let size = (4 * data.width * data.height * 8) as u64;
+        let size = (5 * data.width * data.height * 8) as u64;
         let image = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("image"),
             size,

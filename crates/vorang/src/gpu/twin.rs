@@ -727,8 +727,8 @@ impl Buffers<'_> {
         [self.nodes[i], self.nodes[i + 1]]
     }
 
-    /// `march` for pixel (x, y): colour accumulated front to back and transparency.
-    pub fn pixel(&self, x: u32, y: u32) -> [f64; 4] {
+    /// `march` for pixel (x, y): colour accumulated front to back, transparency, cells passed.
+    pub fn pixel(&self, x: u32, y: u32) -> [f64; 5] {
         let c = self.consts;
         let width = c[slot::WIDTH] as u32;
         let pix = (y * width + x) as usize;
@@ -806,6 +806,6 @@ impl Buffers<'_> {
                 d_in = out[0];
             }
         }
-        [color[0], color[1], color[2], t]
+        [color[0], color[1], color[2], t, f64::from(steps)]
     }
 }

@@ -20,7 +20,8 @@
 @group(0) @binding(3) var<storage, read> lines: array<f64>;
 // The frame's numbers and the transfer function (gpu/frame.rs, Consts).
 @group(0) @binding(4) var<storage, read> consts: array<f64>;
-// Per pixel: colour accumulated front to back (r, g, b) and transparency T.
+// Per pixel: colour accumulated front to back (r, g, b), transparency T, and the number of cells
+// the ray passed (the frame's ray segments).
 @group(0) @binding(5) var<storage, read_write> image: array<f64>;
 
 const WIDTH: u32 = 0u;
@@ -451,8 +452,9 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
             d_in = out.x;
         }
     }
-    image[4u * pix] = color.x;
-    image[4u * pix + 1u] = color.y;
-    image[4u * pix + 2u] = color.z;
-    image[4u * pix + 3u] = t;
+    image[5u * pix] = color.x;
+    image[5u * pix + 1u] = color.y;
+    image[5u * pix + 2u] = color.z;
+    image[5u * pix + 3u] = t;
+    image[5u * pix + 4u] = f64(steps);
 }
