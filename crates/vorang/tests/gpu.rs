@@ -757,3 +757,33 @@ fn grid_lines_and_backgrounds_match_the_cpu() {
         }
     }
 }
+
+/// A volume without fields under CONSTANT maps (what `vorang generate` writes): η and χ the
+/// same everywhere, mapped at the nodes as the CPU maps them.
+#[test]
+fn constant_maps_without_a_field_match_the_cpu() {
+    use vorang::mapping::{AlphaShading, ColorShading, Mapping, parse_map};
+    let Some(g) = gpu() else { return };
+    let (nodes, tets) = vorang::mesh::generate::kuhn_box([4, 3, 3], [1.0, 0.8, 0.7], 0.1, 4);
+    let mesh = vorang::mesh::TetMesh::new(nodes, tets).unwrap();
+    let vol = Arc::new(Volume::from_mesh("box", mesh));
+    let c = "# VoRANG Colormap 1.0\nCONSTANT @1\n@1\n0.9 0.5 0.2\n";
+    let a = "# VoRANG Alphamap 1.0\nCONSTANT @1\n@1\n1.3\n";
+    let c = parse_map::<dyn ColorShading>(c.as_bytes(), "c").unwrap().0;
+    let a = parse_map::<dyn AlphaShading>(a.as_bytes(), "a").unwrap().0;
+    let mapping = Mapping::new(&c, &a, &vol).unwrap().0;
+    let view = View {
+        transforms: vec![TransformOp::Rotate {
+            axis: [1.0, 1.0, 0.0],
+            degrees: 30.0,
+        }],
+        ..View::default()
+    };
+    for order in [Order::BackToFront, Order::FrontToBack] {
+        for method in METHODS {
+            let s = with_method(64, order, method);
+            let d = compare(g, &vol, &mapping, &view, &s, &format!("constant {method}"));
+            eprintln!("constant maps {order:?} {method}: largest difference {d:e}");
+        }
+    }
+}

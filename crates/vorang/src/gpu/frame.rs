@@ -192,12 +192,17 @@ fn node_data(
     let count = vol.mesh.node_count();
     let mapped = match method {
         GpuMethod::Exact => None,
-        GpuMethod::InterpolateCoeff => Some(transfer.map_nodes(count).ok_or_else(|| {
-            Error::Invalid(
-                "interpolateCoeff on the GPU needs a finite field value at every node; use 'backend cpu'"
-                    .into(),
-            )
-        })?),
+        // As the CPU maps a cell's nodes (render::frame's `mapped`): a map of no field at 0.
+        GpuMethod::InterpolateCoeff => Some(match transfer.map_nodes(count) {
+            Some(m) => m,
+            None if values.is_empty() => vec![transfer.eval(0.0); count],
+            None => {
+                return Err(Error::Invalid(
+                    "interpolateCoeff on the GPU needs a finite field value at every node; use 'backend cpu'"
+                        .into(),
+                ));
+            }
+        }),
     };
     let stride = node_stride(method);
     let mut out = vec![0.0; stride * count];
