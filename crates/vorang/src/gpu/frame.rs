@@ -147,6 +147,7 @@ pub fn prepare(
     consts[slot::EXACT_FMA] = f64::from(u8::from(fma));
     consts[slot::CELLS] = vol.mesh.tet_count() as f64;
     consts[slot::NODE] = stride as f64;
+    consts[slot::ANY_NEAR] = f64::from(u8::from(clipped.iter().any(|&c| c)));
     consts[slot::METHOD] = f64::from(u8::from(method == GpuMethod::InterpolateCoeff));
     let planes = placed.projector.ray_planes();
     consts[slot::MAX_SPEED] = planes.max_speed;

@@ -424,8 +424,10 @@ pub mod slot {
     pub const INFINITY: usize = 37;
     /// The rows of the mesh per binding (set by the device, not read by the twins).
     pub const PART_ROWS: usize = 38;
+    /// 1 where some cell reaches in front of the perspective near plane.
+    pub const ANY_NEAR: usize = 39;
     /// The knots, then per piece `from, base[4], slope[4]`.
-    pub const TABLE: usize = 39;
+    pub const TABLE: usize = 40;
 }
 
 /// `EARLY_TERMINATION`, `NEGLIGIBLE`.
@@ -631,7 +633,7 @@ impl Buffers<'_> {
 
     /// `near_clipped`.
     fn near_clipped(&self, tet: [u32; 4]) -> bool {
-        if !self.flag(slot::PERSPECTIVE) {
+        if !self.flag(slot::ANY_NEAR) {
             return false;
         }
         let dmin = self.consts[slot::DMIN];

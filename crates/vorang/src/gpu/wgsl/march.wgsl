@@ -50,7 +50,9 @@ const MAX_SPEED: u32 = 36u;
 const INFINITY: u32 = 37u;
 // The rows of the mesh in each of its bindings.
 const PART_ROWS: u32 = 38u;
-const TABLE: u32 = 39u;
+// 1 where some cell reaches in front of the perspective near plane.
+const ANY_NEAR: u32 = 39u;
+const TABLE: u32 = 40u;
 // A pixel's entry into a cell that reaches in front of the perspective near plane: the cell
 // number with this bit set (else 4·cell + face of a boundary face).
 const NEAR_ENTRY: u32 = 0x80000000u;
@@ -303,7 +305,7 @@ fn clip_line(line: Line) -> Clip {
 // Whether a cell reaches in front of the perspective near plane (render::footprint: its pixels
 // then come from its planes, not from its faces).
 fn near_clipped(tet: vec4<u32>) -> bool {
-    if (consts[PERSPECTIVE] == 0.0lf) {
+    if (consts[ANY_NEAR] == 0.0lf) {
         return false;
     }
     let dmin = consts[DMIN];
