@@ -1,25 +1,35 @@
 #!/usr/bin/env bash
-# The GPU backend against the CPU: ms per frame for 1M cells at 1024², `exact linear 0` (and
-# interpolateColor on the CPU, which the GPU does not render yet), both orders. Builds the
-# release binary with the gpu feature. On a machine without a GPU the Vulkan device is lavapipe
-# (software): its numbers only show that the path works, not how fast a GPU is.
+# The GPU backend against the CPU: ms per frame, ray segments per second and the upload of the
+# cells, for 1M cells at 1024² and 27M at 2048² (`vorang generate`), `exact linear 0` and
+# `interpolateCoeff linear` on both, `interpolateColor` on the CPU (the GPU does not render it).
+# Builds the release binary with the gpu feature. On a machine without a GPU the Vulkan device
+# is lavapipe (software, on the CPU): its numbers only show that the path works, not how fast a
+# GPU is — run it there with a small mesh.
 #
-#   benches/gpu.sh [tetrahedra (default 1000000)] [size (default 1024)]
+#   benches/gpu.sh                      # 1000000 at 1024², then 27000000 at 2048²
+#   benches/gpu.sh TETS SIZE [TETS SIZE …]
 set -euo pipefail
 cd "$(dirname "$0")/.."
-tets="${1:-1000000}"
-size="${2:-1024}"
+cases=("$@")
+if [ ${#cases[@]} -eq 0 ]; then
+    cases=(1000000 1024 27000000 2048)
+fi
 cargo build --release --features gpu --bin vorang >/dev/null
 bin="$PWD/target/release/vorang"
 dir="$(mktemp -d)"
 trap 'rm -rf "$dir"' EXIT
-"$bin" generate --tets "$tets" --binary "$dir/box.hm" >/dev/null
-for backend in cpu gpu; do
-    for method in "exact linear 0 1" "interpolateColor 1"; do
-        if [ "$backend" = gpu ] && [ "$method" = "interpolateColor 1" ]; then
-            continue
-        fi
-        cat >"$dir/frame.tcl" <<TCL
+export XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}"
+for ((i = 0; i + 1 < ${#cases[@]}; i += 2)); do
+    tets="${cases[i]}"
+    size="${cases[i + 1]}"
+    "$bin" generate --tets "$tets" --binary "$dir/box.hm" >/dev/null
+    echo "== $tets tetrahedra at ${size}²"
+    for backend in cpu gpu; do
+        for method in "exact linear 0 1" "interpolateCoeff linear 1" "interpolateColor 1"; do
+            if [ "$backend" = gpu ] && [ "$method" = "interpolateColor 1" ]; then
+                continue
+            fi
+            cat >"$dir/frame.tcl" <<TCL
 backend $backend
 volume box.hm
 imagesize $size $size
@@ -33,8 +43,11 @@ render_ftb
 set t1 [clock milliseconds]
 render_ftb
 set t2 [clock milliseconds]
-puts "$backend  [format %-20s {$method}]  first frame [expr {\$t1 - \$t0}] ms, next [expr {\$t2 - \$t1}] ms"
+puts "$backend  [format %-26s {$method}]  first frame [expr {\$t1 - \$t0}] ms (with the upload), next [expr {\$t2 - \$t1}] ms"
 TCL
-        (cd "$dir" && XDG_RUNTIME_DIR="${XDG_RUNTIME_DIR:-/tmp}" "$bin" frame.tcl 2>&1 | grep -E "^(cpu|gpu) ") || true
+            # The timing lines (VORANG_TIMING) give the segments per second and the upload.
+            (cd "$dir" && VORANG_TIMING=1 "$bin" frame.tcl 2>&1 |
+                grep -E "^(cpu|gpu) |ray segments" | sed -e 's/^ */    /') || true
+        done
     done
 done

@@ -3,6 +3,9 @@
 //! calls a transcendental function (Vulkan defines `exp`, `log`, `pow` … for 32-bit floats
 //! only; the shaders are f64 throughout: crates/vorang/src/gpu/).
 
+#[cfg(feature = "gpu")]
+mod common;
+
 use std::path::PathBuf;
 
 use vorang::Session;
@@ -79,4 +82,95 @@ fn no_wgsl_source_calls_exp_log_pow_or_erf() {
         }
     }
     assert!(files >= 4, "{files} WGSL files in {}", dir.display());
+}
+
+/// `vorang view` on the GPU (`backend gpu` before `view`, as `vorang view --gpu` sets it):
+/// previews with `interpolateCoeff linear` and the refined frame on the GPU, and the saved
+/// refined image is the CPU's. Needs Xvfb and a Vulkan adapter with 64-bit floats; skips
+/// without them unless `VORANG_GPU_TESTS=required`.
+#[cfg(feature = "gpu")]
+#[test]
+fn the_viewer_previews_and_refines_on_the_gpu() {
+    let Some(x) = common::screen::Xvfb::start() else {
+        return;
+    };
+    let mut probe = Session::new();
+    if let Err(e) = probe.set_backend("gpu") {
+        assert!(
+            std::env::var("VORANG_GPU_TESTS").as_deref() != Ok("required"),
+            "VORANG_GPU_TESTS=required but no GPU: {e}"
+        );
+        eprintln!("skipping the GPU viewer test: {e}");
+        return;
+    }
+    let ex = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/hyperthermia");
+    let scene = format!(
+        "volume {{{}}}\ncolormap {{{}}}\nalphamap {{{}}}\nimagesize 64 48\nmethod exact linear 0 1\n",
+        ex.join("hyperthermia.hmesh").display(),
+        ex.join("red.cmap").display(),
+        ex.join("heat.amap").display()
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let script = format!(
+        r#"backend gpu
+{scene}output saved.png
+proc when_refined {{script}} {{
+    if {{[string match "*·  refined  ·*" $::vorang::view_status]}} {{
+        uplevel #0 $script
+    }} else {{
+        after 50 [list when_refined $script]
+    }}
+}}
+after 300 {{when_refined {{
+    event generate .vorang_view <KeyPress> -keysym p
+    event generate .vorang_view <KeyPress> -keysym s
+    event generate .vorang_view <KeyPress> -keysym q
+}}}}
+after 300000 {{event generate .vorang_view <KeyPress> -keysym q}}
+view
+"#
+    );
+    let run = |script: &str, display: Option<&str>| {
+        std::fs::write(dir.path().join("script.tcl"), script).unwrap();
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_vorang"));
+        c.arg("script.tcl")
+            .current_dir(dir.path())
+            .env("VORANG_TIMING", "1");
+        match display {
+            Some(d) => c.env("DISPLAY", d),
+            None => c.env_remove("DISPLAY"),
+        };
+        c.output().unwrap()
+    };
+    let out = run(&script, Some(&x.display));
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stdout}\n{stderr}");
+    let all = format!("{stdout}{stderr}");
+    assert!(
+        all.contains("interpolateCoeff linear (GPU)"),
+        "the previews ran on the GPU: {all}"
+    );
+    let printed: Vec<&str> = stdout
+        .lines()
+        .skip_while(|l| !l.starts_with("# view:"))
+        .skip(1)
+        .take_while(|l| !l.contains("saved from the viewer"))
+        .collect();
+    let again = format!(
+        "{scene}output again.png\n{}\nrender_btf\n",
+        printed.join("\n")
+    );
+    let out = run(&again, None);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let saved = image::open(dir.path().join("saved.0001.png")).unwrap();
+    let cpu = image::open(dir.path().join("again.0001.png")).unwrap();
+    assert!(
+        saved.to_rgba8() == cpu.to_rgba8(),
+        "the GPU's refined frame is the CPU's image"
+    );
 }

@@ -10,8 +10,9 @@ use std::time::Instant;
 use super::rgba8;
 use vorang::framebuffer::{Background, Framebuffer};
 use vorang::mapping::Mapping;
-use vorang::render::{Rect, Settings, TileSink, Watch, render_watched};
+use vorang::render::{Rect, Settings, TileSink, Watch};
 use vorang::scene::View;
+use vorang::session::Backend;
 use vorang::volume::Volume;
 
 /// A frame to render: `refined` with the chosen method, else a preview.
@@ -34,9 +35,11 @@ pub struct Done {
 /// A finished tile of a refined frame: its generation, where it lies, its 8-bit RGBA pixels.
 pub type Tile = (u64, Rect, Vec<u8>);
 
-/// Renders the jobs from `jobs` until that channel closes (or nobody listens any more).
+/// Renders the jobs from `jobs` with the session's backend (`vorang view --gpu`: previews and
+/// refined frames on the GPU) until that channel closes (or nobody listens any more).
 pub fn render(
-    vol: &Volume,
+    backend: &Backend,
+    vol: &Arc<Volume>,
     mapping: &Mapping,
     jobs: Receiver<Job>,
     done_send: Sender<Done>,
@@ -54,7 +57,8 @@ pub fn render(
             tile: job.refined.then_some(&sink as TileSink),
             cancel: &job.cancel,
         };
-        let frame = render_watched(vol, mapping, &job.view, &job.settings, &watch)
+        let frame = backend
+            .render(vol, mapping, &job.view, &job.settings, &watch)
             .map(|(fb, _)| fb)
             .map_err(|e| e.to_string());
         let done = Done {

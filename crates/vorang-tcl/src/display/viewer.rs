@@ -24,7 +24,7 @@ use crate::tcl::Interp;
 use crate::tk::Tk;
 use vorang::framebuffer::Framebuffer;
 use vorang::mapping::Mapping;
-use vorang::render::approx::InterpolateColor;
+use vorang::render::approx::{InterpolateCoeff, InterpolateColor};
 use vorang::render::{CANCELLED, Method, Order, Settings};
 use vorang::session::{Notice, Session, method_command};
 use vorang::volume::Volume;
@@ -162,8 +162,10 @@ pub fn run(
     // makes progress (the thesis's `online` picture).
     let (tile_send, tile_receive) = mpsc::channel::<Tile>();
     std::thread::scope(|scope| {
-        let (vol, mapping) = (&vol, &mapping);
-        scope.spawn(move || frames::render(vol, mapping, job_receive, done_send, tile_send));
+        let (vol, mapping, backend) = (&vol, &mapping, session.backend().clone());
+        scope.spawn(move || {
+            frames::render(&backend, vol, mapping, job_receive, done_send, tile_send)
+        });
         let mut viewer = Viewer {
             session,
             reporter,
@@ -388,9 +390,17 @@ impl Viewer<'_> {
             ..self.session.settings().clone()
         };
         if preview {
-            settings.method = Method::InterpolateColor(InterpolateColor {
-                brightness: controls::brightness(&self.method),
-            });
+            let brightness = controls::brightness(&self.method);
+            // The GPU previews with the method it has that is closest to interpolateColor's
+            // speed: interpolateCoeff linear (crates/vorang/src/gpu/frame.rs).
+            settings.method = if self.session.backend().is_gpu() {
+                Method::InterpolateCoeff(InterpolateCoeff {
+                    rule: vorang::integrate::find("linear").ok_or("view: no linear rule")?,
+                    brightness,
+                })
+            } else {
+                Method::InterpolateColor(InterpolateColor { brightness })
+            };
             settings.width = width.div_ceil(self.factor);
             settings.height = height.div_ceil(self.factor);
         }
@@ -443,8 +453,13 @@ impl Viewer<'_> {
         if std::env::var_os("VORANG_TIMING").is_some() {
             let (pw, ph) = (width.div_ceil(self.factor), height.div_ceil(self.factor));
             self.reporter.info(&format!(
-                "view: {} previews {pw}×{ph} interpolateColor: {}; {} refined {width}×{height} {}: {}",
+                "view: {} previews {pw}×{ph} {}: {}; {} refined {width}×{height} {}: {}",
                 self.times.0.len(),
+                if self.session.backend().is_gpu() {
+                    "interpolateCoeff linear (GPU)"
+                } else {
+                    "interpolateColor"
+                },
                 summary(&mut self.times.0),
                 self.times.1.len(),
                 method_command(&self.method).trim_start_matches("method "),

@@ -1,26 +1,41 @@
 //! One frame's inputs to the march, prepared on the CPU, and its result turned into the
 //! framebuffer: the nodes on screen (the CPU renderer's own placement, sub-pixel grid
-//! included), each pixel's boundary entries in depth order (the watertight face rule: exact
-//! orientation and the top-left rule), the grid lines' depths, the frame's numbers and the
-//! transfer function. What the GPU backend cannot render yet is refused here with a message
+//! included) with their eye-space positions, each pixel's entries in depth order (boundary
+//! faces by the watertight face rule: exact orientation and the top-left rule; cells reaching
+//! in front of a perspective near plane where the CPU draws them), the grid lines' depths, the
+//! frame's numbers and the transfer function. What the GPU backend cannot render yet is refused here with a message
 //! that names it.
 
 use rayon::prelude::*;
 
-use super::twin::{self, Corner, slot};
+use super::twin::{self, Corner, NEAR_ENTRY, slot};
 use crate::error::Error;
 use crate::framebuffer::{Background, Framebuffer};
 use crate::mapping::{Mapping, Transfer1D};
 use crate::mesh::FACE_NODES;
 use crate::predicates::entry_sign;
-use crate::render::{Method, Order, Placed, Settings, lines, place_nodes};
+use crate::render::cell::{CellRays, EyeCell};
+use crate::render::footprint::{Footprint, footprint_into};
+use crate::render::raster::rasterize;
+use crate::render::{Method, Order, Placed, Rect, Settings, TOUCH, lines, place_nodes};
 use crate::scene::{Projector, View};
 use crate::volume::Volume;
 
-/// What the GPU renders; everything else says what it is not.
-pub fn check_method(method: &Method) -> Result<f64, String> {
+/// The methods the march integrates (`METHOD` in `march.wgsl`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GpuMethod {
+    /// `exact linear 0 B`: the field along the ray, cut at the transfer function's knots.
+    Exact,
+    /// `interpolateCoeff linear B`: η and χ mapped at the nodes, interpolated along the ray.
+    InterpolateCoeff,
+}
+
+/// What the GPU renders, with its brightness; everything else says what it is not.
+pub fn check_method(method: &Method) -> Result<(GpuMethod, f64), String> {
     match method {
-        Method::Exact(m) if m.rule.name == "linear" && m.step == 0.0 => Ok(m.brightness),
+        Method::Exact(m) if m.rule.name == "linear" && m.step == 0.0 => {
+            Ok((GpuMethod::Exact, m.brightness))
+        }
         Method::Exact(m) if m.rule.name == "linear" => Err(format!(
             "method exact linear {}: the GPU backend integrates whole cell intervals only (step 0: 'method exact linear 0 {}'); use 'backend cpu' for steps",
             m.step, m.brightness
@@ -29,8 +44,15 @@ pub fn check_method(method: &Method) -> Result<f64, String> {
             "method exact {}: the GPU backend has the linear rule only ('method exact linear 0 B'); use 'backend cpu' for {}",
             m.rule.name, m.rule.name
         )),
+        Method::InterpolateCoeff(m) if m.rule.name == "linear" => {
+            Ok((GpuMethod::InterpolateCoeff, m.brightness))
+        }
+        Method::InterpolateCoeff(m) => Err(format!(
+            "method interpolateCoeff {}: the GPU backend has the linear rule only ('method interpolateCoeff linear B'); use 'backend cpu' for {}",
+            m.rule.name, m.rule.name
+        )),
         other => Err(format!(
-            "method {}: not available on the GPU backend yet (it renders 'method exact linear 0 B'); use 'backend cpu'",
+            "method {}: not available on the GPU backend (it renders 'exact linear 0 B' and 'interpolateCoeff linear B'); use 'backend cpu'",
             other.name()
         )),
     }
@@ -58,7 +80,7 @@ pub struct FrameData {
     /// Per pixel the nearest grid line's depth; `None` without lines.
     pub lines: Option<Vec<f64>>,
     pub consts: Vec<f64>,
-    /// The frame's field at every node, to upload only when it changes.
+    /// How many entries the pixels' lists hold.
     pub entries: usize,
 }
 
@@ -71,26 +93,26 @@ pub fn prepare(
     settings: &Settings,
     fma: bool,
 ) -> Result<FrameData, Error> {
-    let brightness = check_method(&settings.method).map_err(Error::Invalid)?;
+    let (method, brightness) = check_method(&settings.method).map_err(Error::Invalid)?;
     let transfer = check_mapping(mapping, vol).map_err(Error::Invalid)?;
     crate::render::check_size(settings.width, settings.height).map_err(Error::Invalid)?;
     let placed = place_nodes(vol, view, settings)?;
     let (dmin, dmax) = placed.projector.depth();
     let perspective = placed.projector.is_perspective();
-    if perspective
-        && placed
-            .eye_nodes
-            .iter()
-            .any(|p| (-p[2]).partial_cmp(&dmin).is_none_or(|o| o.is_lt()))
-    {
-        return Err(Error::Invalid(
-            "the GPU backend does not render cells reaching in front of the near plane yet (the eye inside or close to the volume); use 'backend cpu'".into(),
-        ));
+    if vol.mesh.tet_count() >= NEAR_ENTRY as usize / 4 {
+        return Err(Error::Invalid(format!(
+            "the GPU backend renders meshes of fewer than {} cells; use 'backend cpu'",
+            NEAR_ENTRY / 4
+        )));
     }
-    let nodes = node_data(vol, &placed, &transfer, perspective);
+    let nodes = node_data(vol, &placed, &transfer, method, perspective)?;
+    let stride = node_stride(method);
     let (width, height) = (settings.width, settings.height);
     let sign = i32::from(entry_sign(placed.mirrored));
-    let lists = boundary_entries(vol, &nodes, width, height, sign, perspective, fma);
+    let clipped = near_clipped(vol, &placed, dmin);
+    let mut hits = boundary_entries(vol, &nodes, stride, [width, height], sign, &clipped, fma);
+    hits.extend(near_entries(vol, &placed, [width, height], &clipped));
+    let lists = entry_lists(hits, width * height);
     let edges = lines::edges(vol, &settings.lines)?;
     let line_depth = if edges.is_empty() {
         None
@@ -124,6 +146,18 @@ pub fn prepare(
     consts[slot::HAS_LINES] = f64::from(u8::from(line_depth.is_some()));
     consts[slot::EXACT_FMA] = f64::from(u8::from(fma));
     consts[slot::CELLS] = vol.mesh.tet_count() as f64;
+    consts[slot::NODE] = stride as f64;
+    consts[slot::ANY_NEAR] = f64::from(u8::from(clipped.iter().any(|&c| c)));
+    consts[slot::METHOD] = f64::from(u8::from(method == GpuMethod::InterpolateCoeff));
+    let planes = placed.projector.ray_planes();
+    consts[slot::MAX_SPEED] = planes.max_speed;
+    consts[slot::INFINITY] = f64::INFINITY;
+    for r in 0..3 {
+        for k in 0..3 {
+            consts[slot::PLANES + 3 * r + k] = planes.origin[r][k];
+            consts[slot::PLANES + 9 + 3 * r + k] = planes.dir[r][k];
+        }
+    }
     consts.extend(transfer.flat());
     let entries = lists.len() - (width * height + 1);
     Ok(FrameData {
@@ -137,20 +171,60 @@ pub fn prepare(
     })
 }
 
+/// The numbers per node in the march's `nodes`.
+fn node_stride(method: GpuMethod) -> usize {
+    match method {
+        GpuMethod::Exact => 7,
+        GpuMethod::InterpolateCoeff => 10,
+    }
+}
+
 /// Per node: screen x and y, depth (orthographic) or its inverse (perspective, as
-/// `render::faces` takes it), the transfer function's field.
-fn node_data(vol: &Volume, placed: &Placed, transfer: &Transfer1D, perspective: bool) -> Vec<f64> {
+/// `render::faces` takes it), the eye-space position, then the transfer function's field
+/// (exact) or η and χ mapped at the node (interpolateCoeff: the CPU's `Transfer1D::map_nodes`).
+fn node_data(
+    vol: &Volume,
+    placed: &Placed,
+    transfer: &Transfer1D,
+    method: GpuMethod,
+    perspective: bool,
+) -> Result<Vec<f64>, Error> {
     let values = &transfer.node_values;
-    let mut out = vec![0.0; 4 * vol.mesh.node_count()];
-    out.par_chunks_mut(4).enumerate().for_each(|(n, o)| {
-        let d = -placed.eye_nodes[n][2];
+    let count = vol.mesh.node_count();
+    let mapped = match method {
+        GpuMethod::Exact => None,
+        // As the CPU maps a cell's nodes (render::frame's `mapped`): a map of no field at 0.
+        GpuMethod::InterpolateCoeff => Some(match transfer.map_nodes(count) {
+            Some(m) => m,
+            None if values.is_empty() => vec![transfer.eval(0.0); count],
+            None => {
+                return Err(Error::Invalid(
+                    "interpolateCoeff on the GPU needs a finite field value at every node; use 'backend cpu'"
+                        .into(),
+                ));
+            }
+        }),
+    };
+    let stride = node_stride(method);
+    let mut out = vec![0.0; stride * count];
+    out.par_chunks_mut(stride).enumerate().for_each(|(n, o)| {
+        let e = placed.eye_nodes[n];
+        let d = -e[2];
         let s = placed.screen[n];
         o[0] = s[0];
         o[1] = s[1];
         o[2] = if perspective { 1.0 / d } else { d };
-        o[3] = values.get(n).copied().unwrap_or(0.0);
+        o[3..6].copy_from_slice(&e);
+        match &mapped {
+            None => o[6] = values.get(n).copied().unwrap_or(0.0),
+            Some(m) => {
+                let (eta, chi) = m[n];
+                o[6..9].copy_from_slice(&eta);
+                o[9] = chi;
+            }
+        }
     });
-    out
+    Ok(out)
 }
 
 /// Every pixel's boundary entries, nearest first, as the march reads them: the offsets of the
@@ -160,15 +234,17 @@ fn node_data(vol: &Volume, placed: &Placed, transfer: &Transfer1D, perspective: 
 fn boundary_entries(
     vol: &Volume,
     nodes: &[f64],
-    width: usize,
-    height: usize,
+    stride: usize,
+    [width, height]: [usize; 2],
     sign: i32,
-    perspective: bool,
+    clipped: &[bool],
     fma: bool,
-) -> Vec<u32> {
+) -> Vec<(u32, f64, u32)> {
+    // Only perspective views mark cells (a mesh without cells has no faces either).
+    let perspective = !clipped.is_empty();
     let tets = vol.mesh.tets();
     let corner = |n: u32| {
-        let i = 4 * n as usize;
+        let i = stride * n as usize;
         Corner {
             p: [nodes[i], nodes[i + 1]],
             z: nodes[i + 2],
@@ -177,8 +253,9 @@ fn boundary_entries(
         }
     };
     let faces: Vec<(usize, usize)> = vol.mesh.boundary_faces().collect();
-    let mut hits: Vec<(u32, f64, u32)> = faces
+    faces
         .par_iter()
+        .filter(|&&(cell, _)| !clipped.get(cell).copied().unwrap_or(false))
         .flat_map_iter(|&(cell, f)| {
             let k = FACE_NODES[f].map(|l| corner(tets[cell][l]));
             let s = k.map(|c| c.p);
@@ -210,9 +287,82 @@ fn boundary_entries(
             }
             out
         })
-        .collect();
+        .collect()
+}
+
+/// Per cell whether it reaches in front of the perspective near plane (`render::footprint`:
+/// its pixels then come from its planes); empty for an orthographic view.
+fn near_clipped(vol: &Volume, placed: &Placed, dmin: f64) -> Vec<bool> {
+    if !placed.projector.is_perspective() {
+        return Vec::new();
+    }
+    vol.mesh
+        .tets()
+        .par_iter()
+        .map(|t| t.iter().any(|&n| -placed.eye_nodes[n as usize][2] < dmin))
+        .collect()
+}
+
+/// The pixels of every near-clipped cell, as the CPU draws them (`render::tile`'s per-ray path
+/// without faces): its footprint cut at the near plane, rasterized, and the ray's interval from
+/// the cell's planes where it is longer than a touch; the entry's depth is where the interval
+/// starts behind the near plane.
+fn near_entries(
+    vol: &Volume,
+    placed: &Placed,
+    [width, height]: [usize; 2],
+    clipped: &[bool],
+) -> Vec<(u32, f64, u32)> {
+    let tets = vol.mesh.tets();
+    let projector = &placed.projector;
+    let (dmin, _) = projector.depth();
+    let rect = Rect {
+        x0: 0,
+        y0: 0,
+        x1: width,
+        y1: height,
+    };
+    (0..clipped.len())
+        .into_par_iter()
+        .filter(|&c| clipped[c])
+        .flat_map_iter(|cell| {
+            let mut out = Vec::new();
+            let ids = tets[cell];
+            let eye = ids.map(|n| placed.eye_nodes[n as usize]);
+            let screen = ids.map(|n| placed.screen[n as usize]);
+            let mut fp = Footprint::empty();
+            if !EyeCell::is_proper(&eye) || !footprint_into(ids, &eye, &screen, projector, &mut fp)
+            {
+                return out;
+            }
+            let Some(ec) = EyeCell::new(&eye) else {
+                return out;
+            };
+            let rays = CellRays::new(&ec, projector);
+            let (lo, hi) = eye
+                .iter()
+                .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), p| {
+                    (lo.min(-p[2]), hi.max(-p[2]))
+                });
+            let touch = TOUCH * (hi - lo);
+            for k in 0..fp.count {
+                rasterize::<false>(&fp.tris[k], rect, |x, y, _| {
+                    let iv = rays.interval(x as f64 + 0.5, y as f64 + 0.5);
+                    if let Some(iv) = iv.filter(|iv| iv.far - iv.near > touch) {
+                        let code = NEAR_ENTRY | cell as u32;
+                        out.push(((y * width + x) as u32, iv.near.max(dmin), code));
+                    }
+                });
+            }
+            out
+        })
+        .collect()
+}
+
+/// The march's lists from every pixel's entries: the offsets of the `pixels` lists (and the
+/// end), then each pixel's entries nearest first.
+fn entry_lists(mut hits: Vec<(u32, f64, u32)>, pixels: usize) -> Vec<u32> {
     hits.par_sort_unstable_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    let pixels = width * height;
     let mut lists = Vec::with_capacity(pixels + 1 + hits.len());
     let mut at = 0;
     for p in 0..=pixels {
@@ -254,7 +404,7 @@ pub fn finish(data: &FrameData, image: &[f64], settings: &Settings) -> Result<Fr
         } else {
             uniform.unwrap_or_else(|| pixels[i])
         };
-        let c = &image[4 * i..4 * i + 4];
+        let c = &image[5 * i..5 * i + 4];
         let t = c[3];
         let rgb = [0, 1, 2].map(|k| c[k] + t * bg[k]);
         let alpha = if line { 1.0 } else { 1.0 - t };

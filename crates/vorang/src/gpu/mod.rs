@@ -1,23 +1,27 @@
-//! The GPU backend (feature `gpu`): `exact linear 0` in f64 Vulkan compute shaders through
-//! wgpu, the same image as the CPU renderer (docs/gpu.md).
+//! The GPU backend (feature `gpu`): `exact linear 0` and `interpolateCoeff linear` in f64 Vulkan
+//! compute shaders through wgpu, the same image as the CPU renderer (docs/gpu.md).
 //!
 //! Image order, exact per pixel: one invocation per pixel enters the mesh at each of the
-//! pixel's boundary entry faces, nearest first ([`frame`]: the CPU lists them with the
-//! watertight face rule), and marches cell to cell through the exit face that holds the pixel
-//! centre (exact orientation predicates and the top-left rule, as `render::faces`). A face's
-//! depth and field value are computed from the face alone, so a cell's exit is its
-//! neighbour's entry bit for bit. Each interval is cut where the field crosses a knot of the
-//! transfer function and integrated with the exact linear rule, in the exp-free series of the
-//! span kernels: Vulkan defines no f64 `exp`, so optically thick segments are cut into thin
-//! ones. The colour is composited front to back (`render_ftb` stops where the CPU does).
+//! pixel's entries, nearest first ([`frame`]: the CPU lists the boundary faces that hold the
+//! pixel by the watertight face rule, and the cells reaching in front of a perspective near
+//! plane where its own renderer draws them), and marches cell to cell through the exit face
+//! that holds the pixel centre (exact orientation predicates and the top-left rule, as
+//! `render::faces`). A face's depth is computed from the face alone, so a cell's exit is its
+//! neighbour's entry bit for bit. In each cell the field comes from the cell's barycentric line
+//! along the ray, operation for operation as the CPU's per-ray path (`render::cell`); the
+//! interval is cut where the field crosses a knot of the transfer function and integrated with
+//! the exact linear rule, in the exp-free series of the span kernels: Vulkan defines no f64
+//! `exp`, so optically thick segments are cut into thin ones. The colour is composited front to
+//! back (`render_ftb` stops where the CPU does).
 //!
 //! Every WGSL function has a Rust twin with the same operations in the same order
 //! ([`twin`]); the GPU tests hold them bit-identical on lavapipe, and hold the images to the
-//! CPU renderer's within 1e-12.
+//! CPU renderer's within 1e-12 per channel.
 //!
 //! Memory: per cell its four nodes and four neighbours (32 bytes, uploaded once per mesh: the
-//! time steps of a series that share a mesh share the upload),
-//! per node four f64 per frame (screen position, depth, field value), per pixel its entries.
+//! time steps of a series that share a mesh share the upload; split across up to
+//! [`MESH_PARTS`] bindings), per node seven f64 per frame (ten for interpolateCoeff), per pixel
+//! its entries and five f64 of result.
 
 pub mod frame;
 pub mod spirv;
@@ -51,11 +55,21 @@ pub fn source() -> String {
     WGSL.iter().map(|(_, s)| *s).collect::<Vec<_>>().join("\n")
 }
 
-/// A mesh's cells on the device: per cell its nodes, then its neighbours.
+/// `Stats::sort` of a GPU frame (the timing line reads it: `bin` is then the upload).
+pub const GPU_SORT: &str = "none (GPU march)";
+
+/// The most buffers a mesh is split across (`mesh`, `mesh1` … `mesh3` in `march.wgsl`).
+pub const MESH_PARTS: usize = 4;
+
+/// A mesh's cells on the device: per cell its nodes, then its neighbours, split into parts of
+/// `rows` rows where one binding cannot hold them all.
 struct Uploaded {
     /// The mesh uploaded (a time step with the same points and cells shares it).
     cells_of: Weak<TetMesh>,
-    mesh: wgpu::Buffer,
+    parts: Vec<wgpu::Buffer>,
+    rows: usize,
+    /// The binding size the parts were cut for.
+    limit: u64,
 }
 
 /// An opened device with the march compiled: what `backend gpu` holds.
@@ -70,6 +84,10 @@ pub struct Gpu {
     /// The device's `fma` on f64 rounds once (lavapipe's does not: it multiplies and adds).
     exact_fma: bool,
     uploaded: Mutex<Option<Uploaded>>,
+    /// The most bytes one buffer binding may hold (the device's limit).
+    binding_limit: u64,
+    /// The most bytes one binding of the mesh holds (the device's limit, or less for tests).
+    mesh_limit: std::sync::atomic::AtomicU64,
     /// Held from an error scope's push to its pop: the device's scopes must be popped in the
     /// reverse order of their pushes, which threads sharing the device would interleave.
     scopes: Mutex<()>,
@@ -130,7 +148,11 @@ impl Gpu {
             ..Default::default()
         }))
         .map_err(|e| format!("the Vulkan device {} did not open: {e}", info.name))?;
-        let march = Kernel::new(&device, passthrough, &source(), "march", (8, 8, 1), 6)
+        let limits = device.limits();
+        let binding_limit = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        let march = Kernel::new(&device, passthrough, &source(), "march", (8, 8, 1), &MARCH)
             .map_err(|e| format!("the shaders did not compile on {}: {e}", info.name))?;
         let mut gpu = Gpu {
             device,
@@ -143,6 +165,8 @@ impl Gpu {
             ),
             exact_fma: false,
             uploaded: Mutex::new(None),
+            binding_limit,
+            mesh_limit: std::sync::atomic::AtomicU64::new(binding_limit),
             scopes: Mutex::new(()),
         };
         gpu.exact_fma = gpu.probe_fma()?;
@@ -152,6 +176,19 @@ impl Gpu {
     /// The adapter: name, driver, kind.
     pub fn name(&self) -> &str {
         &self.name
+    }
+
+    /// The most bytes one buffer binding holds.
+    pub fn binding_limit(&self) -> u64 {
+        self.binding_limit
+    }
+
+    /// Lowers the bytes one binding of the mesh may hold (to test meshes split across
+    /// bindings); never above the device's limit.
+    pub fn limit_mesh_bindings(&self, bytes: u64) {
+        let b = bytes.clamp(64, self.binding_limit);
+        self.mesh_limit
+            .store(b, std::sync::atomic::Ordering::Relaxed);
     }
 
     /// Whether the device's f64 `fma` rounds once.
@@ -182,7 +219,7 @@ impl Gpu {
             "{}\n{}\n{}\n{}",
             WGSL[0].1, WGSL[1].1, WGSL[2].1, PROBE_WGSL
         );
-        let kernel = Kernel::new(d, self.passthrough, &src, entry, (64, 1, 1), 3)?;
+        let kernel = Kernel::new(d, self.passthrough, &src, entry, (64, 1, 1), &PROBE)?;
         let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
         let count = input.len() / stride.max(1);
         let inputs = self.storage(bytemuck::cast_slice(input));
@@ -220,7 +257,7 @@ impl Gpu {
         // A binding may not be empty.
         let padded;
         let contents = if bytes.is_empty() {
-            padded = [0u8; 8];
+            padded = [0u8; 16];
             &padded[..]
         } else {
             bytes
@@ -269,15 +306,19 @@ impl Gpu {
         Ok(out)
     }
 
-    /// The volume's cells on the device, uploaded once per mesh.
-    fn mesh_of(&self, vol: &Arc<Volume>) -> wgpu::Buffer {
+    /// The volume's cells on the device, uploaded once per mesh: the buffers and the rows
+    /// each holds (all but the last full). A mesh that needs more than [`MESH_PARTS`]
+    /// bindings is refused.
+    fn mesh_of(&self, vol: &Arc<Volume>) -> Result<(Vec<wgpu::Buffer>, usize), String> {
+        let limit = self.mesh_limit.load(std::sync::atomic::Ordering::Relaxed);
         let mut uploaded = self.uploaded.lock().unwrap_or_else(|e| e.into_inner());
         if let Some(u) = uploaded.as_ref()
+            && u.limit == limit
             && u.cells_of
                 .upgrade()
                 .is_some_and(|m| Arc::ptr_eq(&m, &vol.mesh))
         {
-            return u.mesh.clone();
+            return Ok((u.parts.clone(), u.rows));
         }
         let mesh = &vol.mesh;
         let mut cells: Vec<[u32; 4]> = Vec::with_capacity(2 * mesh.tet_count());
@@ -285,12 +326,33 @@ impl Gpu {
             cells.push(*t);
             cells.push(*nb);
         }
-        let buffer = self.storage(bytemuck::cast_slice(&cells));
+        // 16 bytes a row.
+        let rows = usize::try_from(limit / 16).unwrap_or(usize::MAX).max(1);
+        let parts = cells.len().div_ceil(rows).max(1);
+        if parts > MESH_PARTS {
+            return Err(format!(
+                "the mesh's {} cells need {} GPU buffers of at most {} bytes (32 bytes a cell), more than the {MESH_PARTS} the backend binds; use 'backend cpu'",
+                mesh.tet_count(),
+                parts,
+                limit
+            ));
+        }
+        let buffers: Vec<wgpu::Buffer> = cells
+            .chunks(rows)
+            .map(|c| self.storage(bytemuck::cast_slice(c)))
+            .collect();
+        let buffers = if buffers.is_empty() {
+            vec![self.storage(&[])]
+        } else {
+            buffers
+        };
         *uploaded = Some(Uploaded {
             cells_of: Arc::downgrade(&vol.mesh),
-            mesh: buffer.clone(),
+            parts: buffers.clone(),
+            rows,
+            limit,
         });
-        buffer
+        Ok((buffers, rows))
     }
 
     /// Renders one frame.
@@ -304,8 +366,13 @@ impl Gpu {
         let started = std::time::Instant::now();
         let data = frame::prepare(vol, mapping, view, settings, self.exact_fma)?;
         let setup = started.elapsed();
+        // The cells go to the device once per mesh: the first frame of a volume pays for it.
+        let uploading = std::time::Instant::now();
+        self.mesh_of(vol).map_err(Error::Invalid)?;
+        let upload = uploading.elapsed();
         let drawing = std::time::Instant::now();
         let image = self.march(vol, &data).map_err(Error::Invalid)?;
+        let segments: f64 = image.chunks(5).map(|p| p[4]).sum();
         let fb = frame::finish(&data, &image, settings)?;
         let non_finite = fb
             .pixels
@@ -314,9 +381,9 @@ impl Gpu {
         let stats = Stats {
             cells: vol.mesh.tet_count(),
             drawn: 0,
-            fragments: 0,
+            fragments: segments as u64,
             lane_fragments: 0,
-            sort: "none (GPU march)",
+            sort: GPU_SORT,
             convex: vol.mesh.is_convex(),
             cycle_cells: 0,
             per_pixel: true,
@@ -330,8 +397,10 @@ impl Gpu {
             overlap_pixels: 0,
             overlap_cells: Vec::new(),
             ranks: Vec::new(),
+            // On the GPU `bin` is the upload of the cells (zero once they are there).
             timing: crate::render::Timing {
                 setup,
+                bin: upload,
                 draw: drawing.elapsed(),
                 ..Default::default()
             },
@@ -341,15 +410,27 @@ impl Gpu {
 
     /// The march over every pixel: colour and transparency per pixel.
     pub fn march(&self, vol: &Arc<Volume>, data: &frame::FrameData) -> Result<Vec<f64>, String> {
-        let mesh = self.mesh_of(vol);
+        let (mesh, rows) = self.mesh_of(vol)?;
+        let limit = self.binding_limit();
+        let node_bytes = 8 * data.nodes.len() as u64;
+        if node_bytes > limit {
+            return Err(format!(
+                "the mesh's {} nodes need {node_bytes} bytes on the GPU, more than one buffer binding holds ({limit}); use 'backend cpu'",
+                vol.mesh.node_count()
+            ));
+        }
+        let mut consts = data.consts.clone();
+        consts[twin::slot::PART_ROWS] = rows as f64;
         let d = &self.device;
         let scopes = self.scopes.lock().unwrap_or_else(|e| e.into_inner());
         let scope = d.push_error_scope(wgpu::ErrorFilter::Validation);
         let nodes = self.storage(bytemuck::cast_slice(&data.nodes));
         let lists = self.storage(bytemuck::cast_slice(&data.lists));
         let lines = self.storage(bytemuck::cast_slice(data.lines.as_deref().unwrap_or(&[])));
-        let consts = self.storage(bytemuck::cast_slice(&data.consts));
-        let size = (4 * data.width * data.height * 8) as u64;
+        let consts = self.storage(bytemuck::cast_slice(&consts));
+        let unused = self.storage(&[]);
+        let part = |k: usize| mesh.get(k).unwrap_or(&unused);
+        let size = (5 * data.width * data.height * 8) as u64;
         let image = d.create_buffer(&wgpu::BufferDescriptor {
             label: Some("image"),
             size,
@@ -360,12 +441,15 @@ impl Gpu {
             label: Some("march"),
             layout: &self.march.group,
             entries: &[
-                entry_of(0, &mesh),
+                entry_of(0, part(0)),
                 entry_of(1, &nodes),
                 entry_of(2, &lists),
                 entry_of(3, &lines),
                 entry_of(4, &consts),
                 entry_of(5, &image),
+                entry_of(6, part(1)),
+                entry_of(7, part(2)),
+                entry_of(8, part(3)),
             ],
         });
         if let Some(e) = block(scope.pop()) {
@@ -380,8 +464,26 @@ impl Gpu {
     }
 }
 
-/// A compiled entry point with its layout: storage buffers 0…n−1, all read-only but the one
-/// before last (the output).
+/// The march's bindings: the mesh (0, and 6–8 for a split mesh), nodes, entry lists, grid
+/// lines, the frame's numbers, and the image it writes (5).
+const MARCH: Bindings = Bindings {
+    count: 9,
+    output: 5,
+};
+
+/// The probes' bindings: input, output (1), parameters.
+const PROBE: Bindings = Bindings {
+    count: 3,
+    output: 1,
+};
+
+/// Storage buffers `0 … count − 1`, all read-only but `output`.
+struct Bindings {
+    count: u32,
+    output: u32,
+}
+
+/// A compiled entry point with its layout.
 struct Kernel {
     pipeline: wgpu::ComputePipeline,
     group: wgpu::BindGroupLayout,
@@ -394,7 +496,7 @@ impl Kernel {
         source: &str,
         entry: &str,
         workgroup: (u32, u32, u32),
-        buffers: u32,
+        bindings: &Bindings,
     ) -> Result<Kernel, String> {
         let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
         let module = if passthrough {
@@ -419,9 +521,8 @@ impl Kernel {
                 source: wgpu::ShaderSource::Wgsl(source.into()),
             })
         };
-        // The output is binding 1 of the probes (of 3) and binding 5 of the march (of 6).
-        let output = if buffers == 3 { 1 } else { buffers - 1 };
-        let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..buffers)
+        let output = bindings.output;
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = (0..bindings.count)
             .map(|b| wgpu::BindGroupLayoutEntry {
                 binding: b,
                 visibility: wgpu::ShaderStages::COMPUTE,

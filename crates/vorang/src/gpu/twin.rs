@@ -261,6 +261,54 @@ pub fn exit_face(s: &[[f64; 2]; 4], entry_sign: i32, p: [f64; 2], fma: bool) -> 
     last
 }
 
+fn dot3(a: [f64; 3], b: [f64; 3]) -> f64 {
+    a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+}
+
+fn cross3(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+
+/// `NEAR_ENTRY`: a pixel's entry into a near-clipped cell (the cell number with this bit).
+pub const NEAR_ENTRY: u32 = 0x8000_0000;
+/// `PARALLEL` (render::cell's tolerance for rays parallel to a face plane).
+const PARALLEL: f64 = 1e-12;
+
+/// `Line`: a cell's barycentric coordinates `a + τ·b` along a ray, and the tolerances.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Line {
+    pub a: [f64; 4],
+    pub b: [f64; 4],
+    pub tol: [f64; 4],
+}
+
+/// `clip_line`: the near and far depth and the exit face (`render::cell`'s clip).
+fn clip_line(line: &Line, infinity: f64) -> Option<(f64, f64, usize)> {
+    let (mut near, mut far, mut exit) = (-infinity, infinity, 0);
+    for i in 0..4 {
+        if line.b[i].abs() <= line.tol[i] {
+            if line.a[i] < -1e-9 {
+                return None;
+            }
+            continue;
+        }
+        let t = -line.a[i] / line.b[i];
+        if line.b[i] > 0.0 {
+            if t > near {
+                near = t;
+            }
+        } else if t < far {
+            far = t;
+            exit = i;
+        }
+    }
+    (near < far).then_some((near, far, exit))
+}
+
 /// `MAX_DEPTH`: the largest end depth of a segment summed by the series.
 pub const MAX_DEPTH: f64 = 0.5;
 const MAX_TERMS: u32 = 64;
@@ -364,8 +412,22 @@ pub mod slot {
     pub const HAS_LINES: usize = 13;
     pub const EXACT_FMA: usize = 14;
     pub const CELLS: usize = 15;
+    /// The numbers per node.
+    pub const NODE: usize = 16;
+    /// 0: `exact linear 0`, 1: `interpolateCoeff linear`.
+    pub const METHOD: usize = 17;
+    /// The rays' origin rows (9 numbers), then their direction rows (`scene::RayPlanes`).
+    pub const PLANES: usize = 18;
+    /// `scene::RayPlanes::max_speed`.
+    pub const MAX_SPEED: usize = 36;
+    /// +∞.
+    pub const INFINITY: usize = 37;
+    /// The rows of the mesh per binding (set by the device, not read by the twins).
+    pub const PART_ROWS: usize = 38;
+    /// 1 where some cell reaches in front of the perspective near plane.
+    pub const ANY_NEAR: usize = 39;
     /// The knots, then per piece `from, base[4], slope[4]`.
-    pub const TABLE: usize = 16;
+    pub const TABLE: usize = 40;
 }
 
 /// `EARLY_TERMINATION`, `NEGLIGIBLE`.
@@ -506,14 +568,149 @@ impl Buffers<'_> {
         (acc.0.map(|b| b * k), acc.1)
     }
 
+    /// `node_at`.
+    fn node_at(&self, n: u32) -> usize {
+        self.consts[slot::NODE] as usize * n as usize
+    }
+
     fn corner(&self, n: u32) -> Corner {
-        let i = 4 * n as usize;
+        let i = self.node_at(n);
         Corner {
             p: [self.nodes[i], self.nodes[i + 1]],
             z: self.nodes[i + 2],
-            v: self.nodes[i + 3],
+            v: self.nodes[i + 6],
             id: n,
         }
+    }
+
+    /// `eye_of`.
+    fn eye_of(&self, n: u32) -> [f64; 3] {
+        let i = self.node_at(n);
+        [self.nodes[i + 3], self.nodes[i + 4], self.nodes[i + 5]]
+    }
+
+    /// `plane`.
+    fn plane(&self, at: usize, g: [f64; 3], k: usize) -> f64 {
+        let c = self.consts;
+        g[0] * c[at + k] + g[1] * c[at + 3 + k] + g[2] * c[at + 6 + k]
+    }
+
+    /// `cell_line`: `λ(τ) = a + τ·b` (and the tolerances where `with_tol`), `None` for a flat
+    /// cell.
+    pub fn cell_line(&self, tet: [u32; 4], p: [f64; 2], with_tol: bool) -> Option<Line> {
+        let c = tet.map(|n| self.eye_of(n));
+        let sub = |u: [f64; 3], v: [f64; 3]| [u[0] - v[0], u[1] - v[1], u[2] - v[2]];
+        let (e1, e2, e3) = (sub(c[1], c[0]), sub(c[2], c[0]), sub(c[3], c[0]));
+        let det = dot3(cross3(e1, e2), e3);
+        if !(det != 0.0 && det.abs() <= f64::MAX) {
+            return None;
+        }
+        let scaled = |v: [f64; 3]| v.map(|x| x / det);
+        let (g1, g2, g3) = (
+            scaled(cross3(e2, e3)),
+            scaled(cross3(e3, e1)),
+            scaled(cross3(e1, e2)),
+        );
+        let g0 = [0, 1, 2].map(|k| -(g1[k] + g2[k] + g3[k]));
+        let g = [g0, g1, g2, g3];
+        let (mut a, mut b, mut tol) = ([0.0; 4], [0.0; 4], [0.0; 4]);
+        for i in 0..4 {
+            let h = 1.0 - dot3(g[i], c[i]);
+            let a0 = self.plane(slot::PLANES, g[i], 0) + h;
+            let a1 = self.plane(slot::PLANES, g[i], 1);
+            let a2 = self.plane(slot::PLANES, g[i], 2);
+            let b0 = self.plane(slot::PLANES + 9, g[i], 0);
+            let b1 = self.plane(slot::PLANES + 9, g[i], 1);
+            let b2 = self.plane(slot::PLANES + 9, g[i], 2);
+            a[i] = a0 + a1 * p[0] + a2 * p[1];
+            b[i] = b0 + b1 * p[0] + b2 * p[1];
+            if with_tol {
+                tol[i] = PARALLEL * dot3(g[i], g[i]).sqrt() * self.consts[slot::MAX_SPEED];
+            }
+        }
+        Some(Line { a, b, tol })
+    }
+
+    /// `near_clipped`.
+    fn near_clipped(&self, tet: [u32; 4]) -> bool {
+        if !self.flag(slot::ANY_NEAR) {
+            return false;
+        }
+        let dmin = self.consts[slot::DMIN];
+        tet.iter().any(|&n| -self.eye_of(n)[2] < dmin)
+    }
+
+    /// `near_step`: `(b, θ)`, then the next cell and its entry depth.
+    fn near_step(
+        &self,
+        cell: u32,
+        p: [f64; 2],
+        dmax: f64,
+        speed: f64,
+    ) -> (Contribution, Option<(u32, f64)>) {
+        let none = (([0.0; 3], 1.0), None);
+        let tet = self.mesh[2 * cell as usize];
+        let Some(line) = self.cell_line(tet, p, true) else {
+            return none;
+        };
+        let Some((iv_near, iv_far, exit)) = clip_line(&line, self.consts[slot::INFINITY]) else {
+            return none;
+        };
+        let near = iv_near.max(self.consts[slot::DMIN]);
+        let far = iv_far.min(dmax);
+        let mut c = ([0.0; 3], 1.0);
+        if near < far {
+            c = self.contribution(tet, &line, near, far, (far - near) * speed);
+        }
+        let next = self.mesh[2 * cell as usize + 1][exit];
+        if next != NO_NEIGHBOR && !self.near_clipped(self.mesh[2 * next as usize]) {
+            return (c, Some((next, self.hit(tet, exit, p)[0])));
+        }
+        (c, None)
+    }
+
+    /// `interpolate`.
+    fn interpolate(&self, tet: [u32; 4], l: [f64; 4]) -> [f64; 4] {
+        let mut r = [0.0; 4];
+        for i in 0..4 {
+            let at = self.node_at(tet[i]) + 6;
+            for k in 0..4 {
+                r[k] += l[i] * self.nodes[at + k];
+            }
+        }
+        r
+    }
+
+    /// `contribution`.
+    fn contribution(
+        &self,
+        tet: [u32; 4],
+        line: &Line,
+        near: f64,
+        far: f64,
+        length: f64,
+    ) -> Contribution {
+        let (a, b) = (line.a, line.b);
+        if self.consts[slot::METHOD] == 0.0 {
+            let v = tet.map(|n| self.nodes[self.node_at(n) + 6]);
+            let s0 = a[0] * v[0] + a[1] * v[1] + a[2] * v[2] + a[3] * v[3];
+            let slope = b[0] * v[0] + b[1] * v[1] + b[2] * v[2] + b[3] * v[3];
+            return self.cell_contribution(s0 + far * slope, s0 + near * slope, length);
+        }
+        let at = |t: f64| [0, 1, 2, 3].map(|i| a[i] + t * b[i]);
+        let f = self.interpolate(tet, at(far));
+        let n = self.interpolate(tet, at(near));
+        let (c, theta) = segment(
+            [f[0], f[1], f[2]],
+            [n[0], n[1], n[2]],
+            [0.0; 3],
+            false,
+            f[3],
+            n[3],
+            length,
+        );
+        let k = self.consts[slot::BRIGHTNESS];
+        (c.map(|x| x * k), theta)
     }
 
     /// `hit`.
@@ -528,12 +725,12 @@ impl Buffers<'_> {
     }
 
     fn screen_of(&self, n: u32) -> [f64; 2] {
-        let i = 4 * n as usize;
+        let i = self.node_at(n);
         [self.nodes[i], self.nodes[i + 1]]
     }
 
-    /// `march` for pixel (x, y): colour accumulated front to back and transparency.
-    pub fn pixel(&self, x: u32, y: u32) -> [f64; 4] {
+    /// `march` for pixel (x, y): colour accumulated front to back, transparency, cells passed.
+    pub fn pixel(&self, x: u32, y: u32) -> [f64; 5] {
         let c = self.consts;
         let width = c[slot::WIDTH] as u32;
         let pix = (y * width + x) as usize;
@@ -561,10 +758,26 @@ impl Buffers<'_> {
         let (first, last) = (self.lists[pix], self.lists[pix + 1]);
         for e in first..last {
             let entry = self.lists[e as usize];
-            let mut cell = entry >> 2;
-            let mut tet = self.mesh[2 * cell as usize];
-            let into = self.hit(tet, (entry & 3) as usize, p);
-            let (mut d_in, mut s_in) = (into[0], into[1]);
+            let (mut cell, mut tet, mut d_in);
+            if entry & NEAR_ENTRY != 0 {
+                if t < stop || steps > cells {
+                    break;
+                }
+                steps += 1;
+                let (c, next) = self.near_step(entry & !NEAR_ENTRY, p, dmax, speed);
+                color = [0, 1, 2].map(|k| color[k] + t * c.0[k]);
+                t *= c.1;
+                let Some((next, d)) = next else {
+                    continue;
+                };
+                cell = next;
+                tet = self.mesh[2 * cell as usize];
+                d_in = d;
+            } else {
+                cell = entry >> 2;
+                tet = self.mesh[2 * cell as usize];
+                d_in = self.hit(tet, (entry & 3) as usize, p)[0];
+            }
             loop {
                 if t < stop || !(d_in < dmax) || steps > cells {
                     break;
@@ -577,32 +790,24 @@ impl Buffers<'_> {
                 }
                 let out = self.hit(tet, x, p);
                 let d_out = out[0].max(d_in);
-                let s_out = out[1];
                 let near = d_in.max(dmin);
                 let far = d_out.min(dmax);
-                if near < far {
-                    let (mut s_near, mut s_far) = (s_in, s_out);
-                    let span = d_out - d_in;
-                    if near != d_in {
-                        s_near = s_in + (s_out - s_in) * ((near - d_in) / span);
-                    }
-                    if far != d_out {
-                        s_far = s_in + (s_out - s_in) * ((far - d_in) / span);
-                    }
-                    let (b, theta) = self.cell_contribution(s_far, s_near, (far - near) * speed);
+                if near < far
+                    && let Some(line) = self.cell_line(tet, p, false)
+                {
+                    let (b, theta) = self.contribution(tet, &line, near, far, (far - near) * speed);
                     color = [0, 1, 2].map(|k| color[k] + t * b[k]);
                     t *= theta;
                 }
                 let next = self.mesh[2 * cell as usize + 1][x];
-                if next == NO_NEIGHBOR {
+                if next == NO_NEIGHBOR || self.near_clipped(self.mesh[2 * next as usize]) {
                     break;
                 }
                 cell = next;
                 tet = self.mesh[2 * cell as usize];
                 d_in = out[0];
-                s_in = s_out;
             }
         }
-        [color[0], color[1], color[2], t]
+        [color[0], color[1], color[2], t, f64::from(steps)]
     }
 }

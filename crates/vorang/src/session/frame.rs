@@ -417,6 +417,17 @@ impl Session {
 pub fn timing_line(stats: &Stats) -> String {
     let t = stats.timing;
     let ms = |d: Duration| d.as_secs_f64() * 1e3;
+    #[cfg(feature = "gpu")]
+    if stats.sort == crate::gpu::GPU_SORT {
+        return format!(
+            "  setup {:.1} ms (nodes, entry lists), upload {:.1} ms (cells, once per mesh), march {:.1} ms on the GPU; {} ray segments ({:.3} G/s)",
+            ms(t.setup),
+            ms(t.bin),
+            ms(t.draw),
+            stats.fragments,
+            stats.fragments as f64 / t.draw.as_secs_f64().max(1e-9) / 1e9
+        );
+    }
     format!(
         "  setup {:.1} ms, sort {:.1} ms ({}{}), bin {:.1} ms, draw {:.1} ms; {} ray segments ({:.0} % in SIMD lanes, {}) on {} threads",
         ms(t.setup),

@@ -178,6 +178,28 @@ pub enum Backend {
 }
 
 impl Backend {
+    /// Renders one frame with this backend: on the GPU the whole frame at once (no tiles for
+    /// `watch`, not cancelled midway), on the CPU through `watch`.
+    pub fn render(
+        &self,
+        vol: &Arc<Volume>,
+        mapping: &Mapping,
+        view: &View,
+        settings: &Settings,
+        watch: &crate::render::Watch,
+    ) -> Result<(crate::framebuffer::Framebuffer, crate::render::Stats), crate::error::Error> {
+        #[cfg(feature = "gpu")]
+        if let Backend::Gpu(g) = self {
+            return g.render(vol, mapping, view, settings);
+        }
+        crate::render::render_watched(vol, mapping, view, settings, watch)
+    }
+
+    /// Whether frames go to the GPU.
+    pub fn is_gpu(&self) -> bool {
+        !matches!(self, Backend::Cpu)
+    }
+
     /// `cpu` or `gpu <adapter>`.
     pub fn describe(&self) -> String {
         match self {
