@@ -168,7 +168,7 @@ pub struct AsciiBlock {
     pub values: Values,
     pub rows: RowLines,
     /// The `@marker` line that ended the block (its text and line), if any.
-    pub next_marker: Option<(Vec<u8>, usize)>,
+    pub next_marker: BlockEnd,
 }
 
 /// Identifies a block in messages.
@@ -234,6 +234,9 @@ pub fn read_block<R: BufRead>(
     })
 }
 
+/// The `@marker` line that ended a block (its text and line), if any.
+type BlockEnd = Option<(Vec<u8>, usize)>;
+
 /// Bytes of rows gathered before they are parsed, in parallel.
 const BATCH_BYTES: usize = 1 << 22;
 
@@ -251,7 +254,7 @@ fn rows_into<R: BufRead, T: AsciiNumber + Send>(
     out: &mut Vec<T>,
     rows: &mut RowLines,
     n_rows: &mut usize,
-) -> Result<Option<(Vec<u8>, usize)>, ParseError> {
+) -> Result<BlockEnd, ParseError> {
     let io_err =
         |e: io::Error| ParseError::new(info.file, info.marker_line, format!("read error: {e}"));
     let mut text: Vec<u8> = Vec::new();
@@ -262,7 +265,7 @@ fn rows_into<R: BufRead, T: AsciiNumber + Send>(
         batch.clear();
         // Where the batch stops: the next marker, the end of the file, a row too many, or
         // a full batch.
-        let mut stop: Option<Result<Option<(Vec<u8>, usize)>, ParseError>> = None;
+        let mut stop: Option<Result<BlockEnd, ParseError>> = None;
         while text.len() < BATCH_BYTES {
             let Some((line_no, line)) = input.next_line().map_err(io_err)? else {
                 stop = Some(Ok(None));
