@@ -8,6 +8,7 @@
 
 use rayon::prelude::*;
 
+use super::color;
 use super::twin::{self, Corner, NEAR_ENTRY, slot};
 use crate::error::Error;
 use crate::framebuffer::{Background, Framebuffer};
@@ -28,6 +29,8 @@ pub enum GpuMethod {
     Exact,
     /// `interpolateCoeff linear B`: η and χ mapped at the nodes, interpolated along the ray.
     InterpolateCoeff,
+    /// `interpolateColor B`: the CPU's Shirley–Tuchman fans, Gouraud-shaded per pixel.
+    InterpolateColor,
 }
 
 /// What the GPU renders, with its brightness; everything else says what it is not.
@@ -51,8 +54,9 @@ pub fn check_method(method: &Method) -> Result<(GpuMethod, f64), String> {
             "method interpolateCoeff {}: the GPU backend has the linear rule only ('method interpolateCoeff linear B'); use 'backend cpu' for {}",
             m.rule.name, m.rule.name
         )),
+        Method::InterpolateColor(m) => Ok((GpuMethod::InterpolateColor, m.brightness)),
         other => Err(format!(
-            "method {}: not available on the GPU backend (it renders 'exact linear 0 B' and 'interpolateCoeff linear B'); use 'backend cpu'",
+            "method {}: not available on the GPU backend (it renders 'exact linear 0 B', 'interpolateCoeff linear B' and 'interpolateColor B'); use 'backend cpu'",
             other.name()
         )),
     }
@@ -105,7 +109,14 @@ pub fn prepare(
             NEAR_ENTRY / 4
         )));
     }
-    let nodes = node_data(vol, &placed, &transfer, method, perspective)?;
+    let mut nodes = node_data(vol, &placed, &transfer, method, perspective)?;
+    let fans = nodes.len();
+    if method == GpuMethod::InterpolateColor {
+        let size = [settings.width, settings.height];
+        nodes.extend(color::fan_data(
+            vol, mapping, &transfer, &placed, size, brightness,
+        ));
+    }
     let stride = node_stride(method);
     let (width, height) = (settings.width, settings.height);
     let sign = i32::from(entry_sign(placed.mirrored));
@@ -148,7 +159,12 @@ pub fn prepare(
     consts[slot::CELLS] = vol.mesh.tet_count() as f64;
     consts[slot::NODE] = stride as f64;
     consts[slot::ANY_NEAR] = f64::from(u8::from(clipped.iter().any(|&c| c)));
-    consts[slot::METHOD] = f64::from(u8::from(method == GpuMethod::InterpolateCoeff));
+    consts[slot::METHOD] = match method {
+        GpuMethod::Exact => 0.0,
+        GpuMethod::InterpolateCoeff => 1.0,
+        GpuMethod::InterpolateColor => 2.0,
+    };
+    consts[slot::FANS] = fans as f64;
     let planes = placed.projector.ray_planes();
     consts[slot::MAX_SPEED] = planes.max_speed;
     consts[slot::INFINITY] = f64::INFINITY;
@@ -175,13 +191,14 @@ pub fn prepare(
 fn node_stride(method: GpuMethod) -> usize {
     match method {
         GpuMethod::Exact => 7,
-        GpuMethod::InterpolateCoeff => 10,
+        GpuMethod::InterpolateCoeff | GpuMethod::InterpolateColor => 10,
     }
 }
 
 /// Per node: screen x and y, depth (orthographic) or its inverse (perspective, as
 /// `render::faces` takes it), the eye-space position, then the transfer function's field
-/// (exact) or η and χ mapped at the node (interpolateCoeff: the CPU's `Transfer1D::map_nodes`).
+/// (exact) or η and χ mapped at the node (interpolateCoeff, interpolateColor: the CPU's
+/// `Transfer1D::map_nodes`).
 fn node_data(
     vol: &Volume,
     placed: &Placed,
@@ -194,16 +211,18 @@ fn node_data(
     let mapped = match method {
         GpuMethod::Exact => None,
         // As the CPU maps a cell's nodes (render::frame's `mapped`): a map of no field at 0.
-        GpuMethod::InterpolateCoeff => Some(match transfer.map_nodes(count) {
-            Some(m) => m,
-            None if values.is_empty() => vec![transfer.eval(0.0); count],
-            None => {
-                return Err(Error::Invalid(
-                    "interpolateCoeff on the GPU needs a finite field value at every node; use 'backend cpu'"
+        GpuMethod::InterpolateCoeff | GpuMethod::InterpolateColor => {
+            Some(match transfer.map_nodes(count) {
+                Some(m) => m,
+                None if values.is_empty() => vec![transfer.eval(0.0); count],
+                None => {
+                    return Err(Error::Invalid(
+                    "interpolateCoeff and interpolateColor on the GPU need a finite field value at every node; use 'backend cpu'"
                         .into(),
                 ));
-            }
-        }),
+                }
+            })
+        }
     };
     let stride = node_stride(method);
     let mut out = vec![0.0; stride * count];
