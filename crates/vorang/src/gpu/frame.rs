@@ -109,21 +109,19 @@ pub fn prepare(
             NEAR_ENTRY / 4
         )));
     }
-    let mut nodes = node_data(vol, &placed, &transfer, method, perspective)?;
-    let fans = nodes.len();
-    if method == GpuMethod::InterpolateColor {
-        let size = [settings.width, settings.height];
-        nodes.extend(color::fan_data(
-            vol, mapping, &transfer, &placed, size, brightness,
-        ));
-    }
+    let nodes = node_data(vol, &placed, &transfer, method, perspective)?;
     let stride = node_stride(method);
     let (width, height) = (settings.width, settings.height);
     let sign = i32::from(entry_sign(placed.mirrored));
     let clipped = near_clipped(vol, &placed, dmin);
     let mut hits = boundary_entries(vol, &nodes, stride, [width, height], sign, &clipped, fma);
     hits.extend(near_entries(vol, &placed, [width, height], &clipped));
-    let lists = entry_lists(hits, width * height);
+    let mut lists = entry_lists(hits, width * height);
+    let entries = lists.len() - (width * height + 1);
+    let fans = lists.len();
+    if method == GpuMethod::InterpolateColor {
+        lists.extend(color::fan_codes(vol, &placed));
+    }
     let edges = lines::edges(vol, &settings.lines)?;
     let line_depth = if edges.is_empty() {
         None
@@ -175,7 +173,6 @@ pub fn prepare(
         }
     }
     consts.extend(transfer.flat());
-    let entries = lists.len() - (width * height + 1);
     Ok(FrameData {
         width,
         height,
@@ -190,14 +187,14 @@ pub fn prepare(
 /// The numbers per node in the march's `nodes`.
 fn node_stride(method: GpuMethod) -> usize {
     match method {
-        GpuMethod::Exact => 7,
-        GpuMethod::InterpolateCoeff | GpuMethod::InterpolateColor => 10,
+        GpuMethod::Exact | GpuMethod::InterpolateColor => 7,
+        GpuMethod::InterpolateCoeff => 10,
     }
 }
 
 /// Per node: screen x and y, depth (orthographic) or its inverse (perspective, as
 /// `render::faces` takes it), the eye-space position, then the transfer function's field
-/// (exact) or η and χ mapped at the node (interpolateCoeff, interpolateColor: the CPU's
+/// (exact, interpolateColor) or η and χ mapped at the node (interpolateCoeff: the CPU's
 /// `Transfer1D::map_nodes`).
 fn node_data(
     vol: &Volume,
@@ -210,19 +207,29 @@ fn node_data(
     let count = vol.mesh.node_count();
     let mapped = match method {
         GpuMethod::Exact => None,
-        // As the CPU maps a cell's nodes (render::frame's `mapped`): a map of no field at 0.
-        GpuMethod::InterpolateCoeff | GpuMethod::InterpolateColor => {
-            Some(match transfer.map_nodes(count) {
-                Some(m) => m,
-                None if values.is_empty() => vec![transfer.eval(0.0); count],
-                None => {
-                    return Err(Error::Invalid(
-                    "interpolateCoeff and interpolateColor on the GPU need a finite field value at every node; use 'backend cpu'"
+        // The march maps the field at the nodes as Transfer1D::map_nodes does, which takes it
+        // finite (else the CPU maps per cell).
+        GpuMethod::InterpolateColor => {
+            let finite = values.len() == count && values.iter().all(|v| v.is_finite());
+            if !values.is_empty() && !finite {
+                return Err(Error::Invalid(
+                    "interpolateColor on the GPU needs a finite field value at every node; use 'backend cpu'"
                         .into(),
                 ));
-                }
-            })
+            }
+            None
         }
+        // As the CPU maps a cell's nodes (render::frame's `mapped`): a map of no field at 0.
+        GpuMethod::InterpolateCoeff => Some(match transfer.map_nodes(count) {
+            Some(m) => m,
+            None if values.is_empty() => vec![transfer.eval(0.0); count],
+            None => {
+                return Err(Error::Invalid(
+                    "interpolateCoeff on the GPU needs a finite field value at every node; use 'backend cpu'"
+                        .into(),
+                ));
+            }
+        }),
     };
     let stride = node_stride(method);
     let mut out = vec![0.0; stride * count];

@@ -13,8 +13,8 @@
 //! interval is cut where the field crosses a knot of the transfer function and integrated with
 //! the exact linear rule, in the exp-free series of the span kernels: Vulkan defines no f64
 //! `exp`, so optically thick segments are cut into thin ones. interpolateColor shades each cell
-//! with the Gouraud fan the CPU prepares per frame ([`color`]). The colour is composited front
-//! to back (`render_ftb` stops where the CPU does).
+//! with its Gouraud fan, from the classification the CPU makes per frame ([`color`]). The
+//! colour is composited front to back (`render_ftb` stops where the CPU does).
 //!
 //! Every WGSL function has a Rust twin with the same operations in the same order
 //! ([`twin`]); the GPU tests hold them bit-identical on lavapipe, and hold the images to the
@@ -22,9 +22,9 @@
 //!
 //! Memory: per cell its four nodes and four neighbours (32 bytes, uploaded once per mesh: the
 //! time steps of a series that share a mesh share the upload; split across up to
-//! [`MESH_PARTS`] bindings), per node seven f64 per frame (ten for interpolateCoeff and
-//! interpolateColor), for interpolateColor per cell seven f64 of its fan per frame, per pixel
-//! its entries and five f64 of result.
+//! [`MESH_PARTS`] bindings), per node seven f64 per frame (ten for interpolateCoeff), for
+//! interpolateColor one word per cell and frame (its fan), per pixel its entries and five f64
+//! of result.
 
 pub mod color;
 pub mod frame;

@@ -678,8 +678,13 @@ impl Buffers<'_> {
         let mut r = [0.0; 4];
         for i in 0..4 {
             let at = self.node_at(tet[i]) + 6;
+            let c = if self.consts[slot::METHOD] == 2.0 {
+                self.map_field(self.nodes[at])
+            } else {
+                [0, 1, 2, 3].map(|k| self.nodes[at + k])
+            };
             for k in 0..4 {
-                r[k] += l[i] * self.nodes[at + k];
+                r[k] += l[i] * c[k];
             }
         }
         r
@@ -804,7 +809,7 @@ impl Buffers<'_> {
                 let far = d_out.min(dmax);
                 if near < far && c[slot::METHOD] == 2.0 {
                     let (b, theta) =
-                        color::color_contribution(self, cell, tet, p, [near, far, d_out - d_in]);
+                        self.color_contribution(cell, tet, p, [near, far, d_out - d_in]);
                     color = [0, 1, 2].map(|k| color[k] + t * b[k]);
                     t *= theta;
                 } else if near < far

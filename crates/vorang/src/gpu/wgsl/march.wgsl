@@ -11,11 +11,11 @@
 @group(0) @binding(8) var<storage, read> mesh3: array<vec4<u32>>;
 // Per node (consts[NODE] numbers): screen x, y, depth (orthographic) or inverse depth
 // (perspective), eye-space x, y, z, then the field value (exact) or η (r, g, b) and χ mapped at
-// the node (interpolateCoeff, interpolateColor); for interpolateColor the cells' fans follow
-// (color.wgsl).
+// the node (interpolateCoeff).
 @group(0) @binding(1) var<storage, read> nodes: array<f64>;
 // Per pixel p: its boundary entries (4·cell + face, nearest first) at lists[lists[p]] up to
-// lists[lists[p + 1]] (the offsets count from the start of the buffer).
+// lists[lists[p + 1]] (the offsets count from the start of the buffer); for interpolateColor
+// one word per cell follows, its fan (color.wgsl).
 @group(0) @binding(2) var<storage, read> lists: array<u32>;
 // Per pixel: the depth of the nearest grid line (only when consts[HAS_LINES] is 1).
 @group(0) @binding(3) var<storage, read> lines: array<f64>;
@@ -53,7 +53,7 @@ const INFINITY: u32 = 37u;
 const PART_ROWS: u32 = 38u;
 // 1 where some cell reaches in front of the perspective near plane.
 const ANY_NEAR: u32 = 39u;
-// interpolateColor: where the cells' fans start in `nodes` (color.wgsl).
+// interpolateColor: where the cells' fan codes start in `lists` (color.wgsl).
 const FANS: u32 = 40u;
 const TABLE: u32 = 41u;
 // A pixel's entry into a cell that reaches in front of the perspective near plane: the cell
@@ -347,12 +347,16 @@ fn near_step(cell: u32, p: vec2<f64>, dmax: f64, speed: f64) -> NearStep {
 }
 
 // interpolateCoeff's (η, χ) at barycentric coordinates l from the coefficients mapped at the
-// nodes (approx::interpolate_coeff::interpolate).
+// nodes (approx::interpolate_coeff::interpolate; interpolateColor maps the nodes' field here).
 fn interpolate(tet: vec4<u32>, l: vec4<f64>) -> vec4<f64> {
     var r = vec4<f64>(0.0lf);
     for (var i = 0u; i < 4u; i++) {
         let at = node_at(tet[i]) + 6u;
-        r = r + l[i] * vec4<f64>(nodes[at], nodes[at + 1u], nodes[at + 2u], nodes[at + 3u]);
+        if (consts[METHOD] == METHOD_COLOR) {
+            r = r + l[i] * map_field(nodes[at]);
+        } else {
+            r = r + l[i] * vec4<f64>(nodes[at], nodes[at + 1u], nodes[at + 2u], nodes[at + 3u]);
+        }
     }
     return r;
 }
