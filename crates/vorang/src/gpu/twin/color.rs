@@ -99,7 +99,7 @@ fn scalar4(v: [f64; 4], l: [f64; 4]) -> f64 {
 
 impl Buffers<'_> {
     /// `fan_code`.
-    fn fan_code(&self, cell: u32) -> u32 {
+    pub(crate) fn fan_code(&self, cell: u32) -> u32 {
         self.lists[self.consts[slot::FANS] as usize + cell as usize]
     }
 
@@ -120,7 +120,7 @@ impl Buffers<'_> {
     }
 
     /// `thick_point`.
-    fn thick_point(&self, tet: [u32; 4], code: u32) -> [f64; 2] {
+    pub(crate) fn thick_point(&self, tet: [u32; 4], code: u32) -> [f64; 2] {
         if code & 32 == 0 {
             return self.screen_of(tet[((code >> 3) & 3) as usize]);
         }
@@ -160,7 +160,7 @@ impl Buffers<'_> {
     }
 
     /// `thick_value`: `[θ, η̄]` at T.
-    fn thick_value(&self, tet: [u32; 4], code: u32, tp: [f64; 2]) -> [f64; 4] {
+    pub(crate) fn thick_value(&self, tet: [u32; 4], code: u32, tp: [f64; 2]) -> [f64; 4] {
         let s = tet.map(|n| self.screen_of(n));
         let depth = tet.map(|n| -self.eye_of(n)[2]);
         let (a, b);
