@@ -424,6 +424,12 @@ impl Gpu {
                 vol.mesh.node_count()
             ));
         }
+        let list_bytes = 4 * data.lists.len() as u64;
+        if list_bytes > limit {
+            return Err(format!(
+                "the frame's entry lists (and interpolateColor's fans) need {list_bytes} bytes on the GPU, more than one buffer binding holds ({limit}); use 'backend cpu'"
+            ));
+        }
         let mut consts = data.consts.clone();
         consts[twin::slot::PART_ROWS] = rows as f64;
         let d = &self.device;
