@@ -41,7 +41,9 @@ def gpu_or_skip():
         pytest.skip(f"no GPU backend here: {e}")
 
 
-@pytest.mark.parametrize("method", ["exact linear 0 1", "interpolateCoeff linear 2"])
+@pytest.mark.parametrize(
+    "method", ["exact linear 0 1", "interpolateCoeff linear 2", "interpolateColor 2"]
+)
 def test_render_on_the_gpu_is_the_cpus_image(method):
     gpu_or_skip()
     vol = hyper()
@@ -62,5 +64,5 @@ def test_plot_on_the_gpu_is_the_cpus_image():
 
 def test_a_method_the_gpu_lacks_is_named():
     gpu_or_skip()
-    with pytest.raises(ValueError, match="interpolateColor"):
-        vorang.render(hyper(), backend="gpu", **scene("interpolateColor 1"))
+    with pytest.raises(ValueError, match="interpolateCoeff constEA"):
+        vorang.render(hyper(), backend="gpu", **scene("interpolateCoeff constEA 1"))

@@ -8,6 +8,7 @@
 
 use rayon::prelude::*;
 
+use super::color;
 use super::twin::{self, Corner, NEAR_ENTRY, slot};
 use crate::error::Error;
 use crate::framebuffer::{Background, Framebuffer};
@@ -28,6 +29,8 @@ pub enum GpuMethod {
     Exact,
     /// `interpolateCoeff linear B`: η and χ mapped at the nodes, interpolated along the ray.
     InterpolateCoeff,
+    /// `interpolateColor B`: the CPU's Shirley–Tuchman fans, Gouraud-shaded per pixel.
+    InterpolateColor,
 }
 
 /// What the GPU renders, with its brightness; everything else says what it is not.
@@ -51,8 +54,9 @@ pub fn check_method(method: &Method) -> Result<(GpuMethod, f64), String> {
             "method interpolateCoeff {}: the GPU backend has the linear rule only ('method interpolateCoeff linear B'); use 'backend cpu' for {}",
             m.rule.name, m.rule.name
         )),
+        Method::InterpolateColor(m) => Ok((GpuMethod::InterpolateColor, m.brightness)),
         other => Err(format!(
-            "method {}: not available on the GPU backend (it renders 'exact linear 0 B' and 'interpolateCoeff linear B'); use 'backend cpu'",
+            "method {}: not available on the GPU backend (it renders 'exact linear 0 B', 'interpolateCoeff linear B' and 'interpolateColor B'); use 'backend cpu'",
             other.name()
         )),
     }
@@ -112,7 +116,12 @@ pub fn prepare(
     let clipped = near_clipped(vol, &placed, dmin);
     let mut hits = boundary_entries(vol, &nodes, stride, [width, height], sign, &clipped, fma);
     hits.extend(near_entries(vol, &placed, [width, height], &clipped));
-    let lists = entry_lists(hits, width * height);
+    let mut lists = entry_lists(hits, width * height);
+    let entries = lists.len() - (width * height + 1);
+    let fans = lists.len();
+    if method == GpuMethod::InterpolateColor {
+        lists.extend(color::fan_codes(vol, &placed));
+    }
     let edges = lines::edges(vol, &settings.lines)?;
     let line_depth = if edges.is_empty() {
         None
@@ -148,7 +157,12 @@ pub fn prepare(
     consts[slot::CELLS] = vol.mesh.tet_count() as f64;
     consts[slot::NODE] = stride as f64;
     consts[slot::ANY_NEAR] = f64::from(u8::from(clipped.iter().any(|&c| c)));
-    consts[slot::METHOD] = f64::from(u8::from(method == GpuMethod::InterpolateCoeff));
+    consts[slot::METHOD] = match method {
+        GpuMethod::Exact => 0.0,
+        GpuMethod::InterpolateCoeff => 1.0,
+        GpuMethod::InterpolateColor => 2.0,
+    };
+    consts[slot::FANS] = fans as f64;
     let planes = placed.projector.ray_planes();
     consts[slot::MAX_SPEED] = planes.max_speed;
     consts[slot::INFINITY] = f64::INFINITY;
@@ -159,7 +173,6 @@ pub fn prepare(
         }
     }
     consts.extend(transfer.flat());
-    let entries = lists.len() - (width * height + 1);
     Ok(FrameData {
         width,
         height,
@@ -174,14 +187,15 @@ pub fn prepare(
 /// The numbers per node in the march's `nodes`.
 fn node_stride(method: GpuMethod) -> usize {
     match method {
-        GpuMethod::Exact => 7,
+        GpuMethod::Exact | GpuMethod::InterpolateColor => 7,
         GpuMethod::InterpolateCoeff => 10,
     }
 }
 
 /// Per node: screen x and y, depth (orthographic) or its inverse (perspective, as
 /// `render::faces` takes it), the eye-space position, then the transfer function's field
-/// (exact) or η and χ mapped at the node (interpolateCoeff: the CPU's `Transfer1D::map_nodes`).
+/// (exact, interpolateColor) or η and χ mapped at the node (interpolateCoeff: the CPU's
+/// `Transfer1D::map_nodes`).
 fn node_data(
     vol: &Volume,
     placed: &Placed,
@@ -193,6 +207,18 @@ fn node_data(
     let count = vol.mesh.node_count();
     let mapped = match method {
         GpuMethod::Exact => None,
+        // The march maps the field at the nodes as Transfer1D::map_nodes does, which takes it
+        // finite (else the CPU maps per cell).
+        GpuMethod::InterpolateColor => {
+            let finite = values.len() == count && values.iter().all(|v| v.is_finite());
+            if !values.is_empty() && !finite {
+                return Err(Error::Invalid(
+                    "interpolateColor on the GPU needs a finite field value at every node; use 'backend cpu'"
+                        .into(),
+                ));
+            }
+            None
+        }
         // As the CPU maps a cell's nodes (render::frame's `mapped`): a map of no field at 0.
         GpuMethod::InterpolateCoeff => Some(match transfer.map_nodes(count) {
             Some(m) => m,

@@ -1,5 +1,6 @@
-//! The GPU backend (feature `gpu`): `exact linear 0` and `interpolateCoeff linear` in f64 Vulkan
-//! compute shaders through wgpu, the same image as the CPU renderer (docs/gpu.md).
+//! The GPU backend (feature `gpu`): `exact linear 0`, `interpolateCoeff linear` and
+//! `interpolateColor` in f64 Vulkan compute shaders through wgpu, the same image as the CPU
+//! renderer (docs/gpu.md).
 //!
 //! Image order, exact per pixel: one invocation per pixel enters the mesh at each of the
 //! pixel's entries, nearest first ([`frame`]: the CPU lists the boundary faces that hold the
@@ -11,8 +12,9 @@
 //! along the ray, operation for operation as the CPU's per-ray path (`render::cell`); the
 //! interval is cut where the field crosses a knot of the transfer function and integrated with
 //! the exact linear rule, in the exp-free series of the span kernels: Vulkan defines no f64
-//! `exp`, so optically thick segments are cut into thin ones. The colour is composited front to
-//! back (`render_ftb` stops where the CPU does).
+//! `exp`, so optically thick segments are cut into thin ones. interpolateColor shades each cell
+//! with its Gouraud fan, from the classification the CPU makes per frame ([`color`]). The
+//! colour is composited front to back (`render_ftb` stops where the CPU does).
 //!
 //! Every WGSL function has a Rust twin with the same operations in the same order
 //! ([`twin`]); the GPU tests hold them bit-identical on lavapipe, and hold the images to the
@@ -20,9 +22,11 @@
 //!
 //! Memory: per cell its four nodes and four neighbours (32 bytes, uploaded once per mesh: the
 //! time steps of a series that share a mesh share the upload; split across up to
-//! [`MESH_PARTS`] bindings), per node seven f64 per frame (ten for interpolateCoeff), per pixel
-//! its entries and five f64 of result.
+//! [`MESH_PARTS`] bindings), per node seven f64 per frame (ten for interpolateCoeff), for
+//! interpolateColor one word per cell and frame (its fan), per pixel its entries and five f64
+//! of result.
 
+pub mod color;
 pub mod frame;
 pub mod spirv;
 pub mod twin;
@@ -45,6 +49,7 @@ pub const WGSL: &[(&str, &str)] = &[
     ("faces.wgsl", include_str!("wgsl/faces.wgsl")),
     ("linear.wgsl", include_str!("wgsl/linear.wgsl")),
     ("march.wgsl", include_str!("wgsl/march.wgsl")),
+    ("color.wgsl", include_str!("wgsl/color.wgsl")),
 ];
 
 /// The entry points the tests call: each function of the shaders on a batch of inputs.
@@ -417,6 +422,12 @@ impl Gpu {
             return Err(format!(
                 "the mesh's {} nodes need {node_bytes} bytes on the GPU, more than one buffer binding holds ({limit}); use 'backend cpu'",
                 vol.mesh.node_count()
+            ));
+        }
+        let list_bytes = 4 * data.lists.len() as u64;
+        if list_bytes > limit {
+            return Err(format!(
+                "the frame's entry lists (and interpolateColor's fans) need {list_bytes} bytes on the GPU, more than one buffer binding holds ({limit}); use 'backend cpu'"
             ));
         }
         let mut consts = data.consts.clone();

@@ -10,6 +10,8 @@
 
 use crate::mesh::{FACE_NODES, NO_NEIGHBOR};
 
+pub mod color;
+
 /// `hi + lo`, nonoverlapping.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Dd {
@@ -414,7 +416,7 @@ pub mod slot {
     pub const CELLS: usize = 15;
     /// The numbers per node.
     pub const NODE: usize = 16;
-    /// 0: `exact linear 0`, 1: `interpolateCoeff linear`.
+    /// 0: `exact linear 0`, 1: `interpolateCoeff linear`, 2: `interpolateColor`.
     pub const METHOD: usize = 17;
     /// The rays' origin rows (9 numbers), then their direction rows (`scene::RayPlanes`).
     pub const PLANES: usize = 18;
@@ -426,8 +428,10 @@ pub mod slot {
     pub const PART_ROWS: usize = 38;
     /// 1 where some cell reaches in front of the perspective near plane.
     pub const ANY_NEAR: usize = 39;
+    /// interpolateColor: where the cells' fans start in the nodes' numbers.
+    pub const FANS: usize = 40;
     /// The knots, then per piece `from, base[4], slope[4]`.
-    pub const TABLE: usize = 40;
+    pub const TABLE: usize = 41;
 }
 
 /// `EARLY_TERMINATION`, `NEGLIGIBLE`.
@@ -569,7 +573,7 @@ impl Buffers<'_> {
     }
 
     /// `node_at`.
-    fn node_at(&self, n: u32) -> usize {
+    pub(super) fn node_at(&self, n: u32) -> usize {
         self.consts[slot::NODE] as usize * n as usize
     }
 
@@ -674,8 +678,13 @@ impl Buffers<'_> {
         let mut r = [0.0; 4];
         for i in 0..4 {
             let at = self.node_at(tet[i]) + 6;
+            let c = if self.consts[slot::METHOD] == 2.0 {
+                self.map_field(self.nodes[at])
+            } else {
+                [0, 1, 2, 3].map(|k| self.nodes[at + k])
+            };
             for k in 0..4 {
-                r[k] += l[i] * self.nodes[at + k];
+                r[k] += l[i] * c[k];
             }
         }
         r
@@ -700,6 +709,13 @@ impl Buffers<'_> {
         let at = |t: f64| [0, 1, 2, 3].map(|i| a[i] + t * b[i]);
         let f = self.interpolate(tet, at(far));
         let n = self.interpolate(tet, at(near));
+        let k = self.consts[slot::BRIGHTNESS];
+        if self.consts[slot::METHOD] == 2.0 {
+            let eta = [0, 1, 2].map(|i| 0.5 * (f[i] + n[i]));
+            let chi = 0.5 * (f[3] + n[3]);
+            let (c, theta) = segment(eta, eta, [0.0; 3], false, chi, chi, length);
+            return (c.map(|x| x * k), theta);
+        }
         let (c, theta) = segment(
             [f[0], f[1], f[2]],
             [n[0], n[1], n[2]],
@@ -709,7 +725,6 @@ impl Buffers<'_> {
             n[3],
             length,
         );
-        let k = self.consts[slot::BRIGHTNESS];
         (c.map(|x| x * k), theta)
     }
 
@@ -724,7 +739,7 @@ impl Buffers<'_> {
         )
     }
 
-    fn screen_of(&self, n: u32) -> [f64; 2] {
+    pub(super) fn screen_of(&self, n: u32) -> [f64; 2] {
         let i = self.node_at(n);
         [self.nodes[i], self.nodes[i + 1]]
     }
@@ -792,7 +807,12 @@ impl Buffers<'_> {
                 let d_out = out[0].max(d_in);
                 let near = d_in.max(dmin);
                 let far = d_out.min(dmax);
-                if near < far
+                if near < far && c[slot::METHOD] == 2.0 {
+                    let (b, theta) =
+                        self.color_contribution(cell, tet, p, [near, far, d_out - d_in]);
+                    color = [0, 1, 2].map(|k| color[k] + t * b[k]);
+                    t *= theta;
+                } else if near < far
                     && let Some(line) = self.cell_line(tet, p, false)
                 {
                     let (b, theta) = self.contribution(tet, &line, near, far, (far - near) * speed);

@@ -83,3 +83,82 @@ fn segment(far: vec3<f64>, near: vec3<f64>, mid: vec3<f64>, quadratic: bool, chi
     }
     return out;
 }
+
+// θ^f without pow (approx::interpolate_color raises the interpolated θ to the kept fraction f of
+// a clipped interval): e^{f·ln θ}, ln by halving to m ∈ [√½, √2) and the series
+// ln m = 2·atanh((m − 1)/(m + 1)), e^y by y = k·ln 2 + r, |r| ≤ ½ln 2, and Taylor's series,
+// ln 2 split in two (fdlibm's) so that k·ln 2 keeps its bits. A few units in the last place of
+// the CPU's powf. Twins: gpu/twin.rs, soft_ln, soft_exp, pow_frac.
+const LN2_HI: f64 = 6.93147180369123816490e-01lf;
+const LN2_LO: f64 = 1.90821492927058770002e-10lf;
+const INV_LN2: f64 = 1.44269504088896338700e+00lf;
+const SQRT_HALF: f64 = 0.70710678118654752440lf;
+const TWO_64: f64 = 18446744073709551616.0lf;
+const FINITE_MAX: f64 = 1.7976931348623157e308lf;
+
+// ln x for a finite x > 0.
+fn soft_ln(x: f64) -> f64 {
+    var m = x;
+    var e = 0.0lf;
+    while (m < 1.0lf / TWO_64) {
+        m = m * TWO_64;
+        e = e - 64.0lf;
+    }
+    while (m < 0.5lf) {
+        m = m * 2.0lf;
+        e = e - 1.0lf;
+    }
+    while (m >= 1.0lf) {
+        m = m * 0.5lf;
+        e = e + 1.0lf;
+    }
+    if (m < SQRT_HALF) {
+        m = m * 2.0lf;
+        e = e - 1.0lf;
+    }
+    let z = (m - 1.0lf) / (m + 1.0lf);
+    let z2 = z * z;
+    var s = 1.0lf / 29.0lf;
+    for (var j = 0u; j < 14u; j++) {
+        s = s * z2 + 1.0lf / f64(27u - 2u * j);
+    }
+    return e * LN2_HI + (e * LN2_LO + 2.0lf * z * s);
+}
+
+// e^y (0 below −746).
+fn soft_exp(y: f64) -> f64 {
+    if (y < -746.0lf) {
+        return 0.0lf;
+    }
+    let k = floor(y * INV_LN2 + 0.5lf);
+    let r = (y - k * LN2_HI) - k * LN2_LO;
+    var s = 1.0lf;
+    for (var j = 0u; j < 20u; j++) {
+        s = 1.0lf + s * r / f64(20u - j);
+    }
+    var kk = k;
+    while (kk <= -64.0lf) {
+        s = s * (1.0lf / TWO_64);
+        kk = kk + 64.0lf;
+    }
+    while (kk < 0.0lf) {
+        s = s * 0.5lf;
+        kk = kk + 1.0lf;
+    }
+    while (kk > 0.0lf) {
+        s = s * 2.0lf;
+        kk = kk - 1.0lf;
+    }
+    return s;
+}
+
+// θ^f for f in (0, 1]: 0 where θ is not positive (the CPU's θ.max(0).powf(f)).
+fn pow_frac(theta: f64, f: f64) -> f64 {
+    if (!(theta > 0.0lf)) {
+        return 0.0lf;
+    }
+    if (!(theta <= FINITE_MAX)) {
+        return theta;
+    }
+    return soft_exp(f * soft_ln(theta));
+}

@@ -14,7 +14,8 @@
 // the node (interpolateCoeff).
 @group(0) @binding(1) var<storage, read> nodes: array<f64>;
 // Per pixel p: its boundary entries (4·cell + face, nearest first) at lists[lists[p]] up to
-// lists[lists[p + 1]] (the offsets count from the start of the buffer).
+// lists[lists[p + 1]] (the offsets count from the start of the buffer); for interpolateColor
+// one word per cell follows, its fan (color.wgsl).
 @group(0) @binding(2) var<storage, read> lists: array<u32>;
 // Per pixel: the depth of the nearest grid line (only when consts[HAS_LINES] is 1).
 @group(0) @binding(3) var<storage, read> lines: array<f64>;
@@ -52,13 +53,16 @@ const INFINITY: u32 = 37u;
 const PART_ROWS: u32 = 38u;
 // 1 where some cell reaches in front of the perspective near plane.
 const ANY_NEAR: u32 = 39u;
-const TABLE: u32 = 40u;
+// interpolateColor: where the cells' fan codes start in `lists` (color.wgsl).
+const FANS: u32 = 40u;
+const TABLE: u32 = 41u;
 // A pixel's entry into a cell that reaches in front of the perspective near plane: the cell
 // number with this bit set (else 4·cell + face of a boundary face).
 const NEAR_ENTRY: u32 = 0x80000000u;
 // render::cell's PARALLEL.
 const PARALLEL: f64 = 1e-12lf;
 const METHOD_EXACT: f64 = 0.0lf;
+const METHOD_COLOR: f64 = 2.0lf;
 const F64_MAX: f64 = 1.7976931348623157e308lf;
 const NO_NEIGHBOR: u32 = 0xffffffffu;
 // render::EARLY_TERMINATION for render_ftb; back to front nothing behind this shows.
@@ -343,18 +347,23 @@ fn near_step(cell: u32, p: vec2<f64>, dmax: f64, speed: f64) -> NearStep {
 }
 
 // interpolateCoeff's (η, χ) at barycentric coordinates l from the coefficients mapped at the
-// nodes (approx::interpolate_coeff::interpolate).
+// nodes (approx::interpolate_coeff::interpolate; interpolateColor maps the nodes' field here).
 fn interpolate(tet: vec4<u32>, l: vec4<f64>) -> vec4<f64> {
     var r = vec4<f64>(0.0lf);
     for (var i = 0u; i < 4u; i++) {
         let at = node_at(tet[i]) + 6u;
-        r = r + l[i] * vec4<f64>(nodes[at], nodes[at + 1u], nodes[at + 2u], nodes[at + 3u]);
+        if (consts[METHOD] == METHOD_COLOR) {
+            r = r + l[i] * map_field(nodes[at]);
+        } else {
+            r = r + l[i] * vec4<f64>(nodes[at], nodes[at + 1u], nodes[at + 2u], nodes[at + 3u]);
+        }
     }
     return r;
 }
 
 // A cell's (b, θ) between depths near and far (length: the ray's length there): `exact linear 0`
-// (Exact::transfer_pixel) or `interpolateCoeff linear` (InterpolateCoeff::pixel).
+// (Exact::transfer_pixel), `interpolateCoeff linear` (InterpolateCoeff::pixel) or, for a
+// near-clipped cell, interpolateColor's constEA.
 fn contribution(tet: vec4<u32>, line: Line, near: f64, far: f64, length: f64) -> Contribution {
     if (consts[METHOD] == METHOD_EXACT) {
         let v = vec4<f64>(nodes[node_at(tet.x) + 6u], nodes[node_at(tet.y) + 6u], nodes[node_at(tet.z) + 6u], nodes[node_at(tet.w) + 6u]);
@@ -364,6 +373,14 @@ fn contribution(tet: vec4<u32>, line: Line, near: f64, far: f64, length: f64) ->
     }
     let f = interpolate(tet, line.a + far * line.b);
     let n = interpolate(tet, line.a + near * line.b);
+    if (consts[METHOD] == METHOD_COLOR) {
+        // A near-clipped cell has no fan: constEA (InterpolateColor::pixel), η and χ at their
+        // means, in the series (η̄·(1 − θ)/χ̄ is the linear rule of constant η̄ and χ̄).
+        let eta = 0.5lf * (f.xyz + n.xyz);
+        let chi = 0.5lf * (f.w + n.w);
+        let m = segment(eta, eta, vec3<f64>(0.0lf), false, chi, chi, length);
+        return Contribution(m.b * consts[BRIGHTNESS], m.theta);
+    }
     let c = segment(f.xyz, n.xyz, vec3<f64>(0.0lf), false, f.w, n.w, length);
     return Contribution(c.b * consts[BRIGHTNESS], c.theta);
 }
@@ -437,7 +454,11 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
             let d_out = max(out.x, d_in);
             let near = max(d_in, dmin);
             let far = min(d_out, dmax);
-            if (near < far) {
+            if (near < far && consts[METHOD] == METHOD_COLOR) {
+                let c = color_contribution(cell, tet, p, near, far, d_out - d_in);
+                color = color + t * c.b;
+                t = t * c.theta;
+            } else if (near < far) {
                 let line = cell_line(tet, p, false);
                 if (line.proper) {
                     let c = contribution(tet, line, near, far, (far - near) * speed);

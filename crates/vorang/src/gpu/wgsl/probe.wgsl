@@ -84,3 +84,13 @@ fn segment_probe(@builtin(global_invocation_id) gid: vec3<u32>) {
     output[4u * i + 2u] = c.b.z;
     output[4u * i + 3u] = c.theta;
 }
+
+@compute @workgroup_size(64)
+fn pow_probe(@builtin(global_invocation_id) gid: vec3<u32>) {
+    _ = params[0];
+    let i = gid.x;
+    if (i >= arrayLength(&input) / 2u) {
+        return;
+    }
+    output[i] = pow_frac(input[2u * i], input[2u * i + 1u]);
+}
