@@ -34,15 +34,40 @@ pub fn sniff(head: &[u8]) -> bool {
 pub(super) struct Exo {
     nc: NcFile,
     name: String,
+    /// The file's length in bytes: what a variable read whole may claim (see `native`).
+    len: u64,
 }
 
 impl Exo {
     fn open(path: &Path, name: &str) -> Result<Exo, ParseError> {
-        let nc = NcFile::open(path)
-            .map_err(|e| ParseError::new(name, 0, format!("not a readable netCDF file: {e}")))?;
+        let bad = |e: &dyn std::fmt::Display| {
+            ParseError::new(name, 0, format!("not a readable netCDF file: {e}"))
+        };
+        let mut file = std::fs::File::open(path).map_err(|e| bad(&e))?;
+        let len = file.metadata().map_err(|e| bad(&e))?.len();
+        let mut magic = [0u8; 4];
+        let classic =
+            std::io::Read::read_exact(&mut file, &mut magic).is_ok() && magic.starts_with(b"CDF");
+        let nc = if classic {
+            // netcdf-reader maps classic files itself and reads from the map.
+            NcFile::open(path).map_err(|e| bad(&e))?
+        } else {
+            // A netCDF-4 file is mapped here and read from the map, so that a variable is
+            // copied once, into its vector (netcdf-reader's own `open` reads each range into
+            // a buffer first, which doubles a connectivity while it is read: docs/formats.md,
+            // "Speed and memory").
+            // SAFETY: the map is only read; as for every mapped file, another program
+            // truncating the file meanwhile is not guarded against (netcdf-reader maps
+            // classic files the same way).
+            let map = unsafe { memmap2::Mmap::map(&file) }.map_err(|e| bad(&e))?;
+            let storage: netcdf_reader::DynStorage =
+                std::sync::Arc::new(netcdf_reader::MmapStorage::new(map));
+            NcFile::from_storage(storage).map_err(|e| bad(&e))?
+        };
         Ok(Exo {
             nc,
             name: name.to_string(),
+            len,
         })
     }
 
@@ -52,6 +77,7 @@ impl Exo {
         Ok(Exo {
             nc,
             name: name.to_string(),
+            len: bytes.len() as u64,
         })
     }
 
@@ -143,13 +169,29 @@ impl Exo {
     }
 
     /// A variable's values in its own type `T` (the whole variable, or `selection`), as a
-    /// vector: the array the reader made, not a copy of it.
-    fn native<T: NcReadable + Clone>(
+    /// vector. A whole variable is read straight into a vector of its size (no array to copy
+    /// from, no bytes decoded on the side: a large connectivity exists once) when that size is
+    /// one the file can hold — its bytes at most the file's, or 1100 times as many for
+    /// compressed data (deflate expands at most about 1032-fold) — so that a corrupt shape
+    /// cannot reserve memory; otherwise the reader's own array is taken.
+    fn native<T: NcReadable + Clone + Default>(
         &self,
         var: &str,
         all: bool,
         selection: &NcSliceInfo,
     ) -> Result<Vec<T>, netcdf_reader::Error> {
+        let size = self.nc.variable(var).ok().and_then(|v| {
+            v.shape()
+                .iter()
+                .try_fold(1u64, |n, &d| n.checked_mul(d))
+                .and_then(|n| n.checked_mul(std::mem::size_of::<T>() as u64))
+        });
+        if all && size.is_some_and(|b| b <= self.len.saturating_mul(1100)) {
+            let n = size.unwrap_or(0) as usize / std::mem::size_of::<T>().max(1);
+            let mut values = vec![T::default(); n];
+            self.nc.read_variable_into(var, &mut values)?;
+            return Ok(values);
+        }
         let a = if all {
             self.nc.read_variable::<T>(var)?
         } else {
