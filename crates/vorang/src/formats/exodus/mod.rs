@@ -34,8 +34,10 @@ pub fn sniff(head: &[u8]) -> bool {
 pub(super) struct Exo {
     nc: NcFile,
     name: String,
-    /// The file's length in bytes: what a variable read whole may claim (see `native`).
-    len: u64,
+    /// How many bytes a variable read whole may claim (see `native`): the file's length for
+    /// a classic file, 1100 times that for netCDF-4, whose data may be compressed (deflate
+    /// expands at most about 1032-fold).
+    limit: u64,
 }
 
 impl Exo {
@@ -67,17 +69,26 @@ impl Exo {
         Ok(Exo {
             nc,
             name: name.to_string(),
-            len,
+            limit: if classic {
+                len
+            } else {
+                len.saturating_mul(1100)
+            },
         })
     }
 
     fn from_bytes(bytes: &[u8], name: &str) -> Result<Exo, ParseError> {
         let nc = NcFile::from_bytes(bytes)
             .map_err(|e| ParseError::new(name, 0, format!("not a readable netCDF file: {e}")))?;
+        let len = bytes.len() as u64;
         Ok(Exo {
             nc,
             name: name.to_string(),
-            len: bytes.len() as u64,
+            limit: if bytes.starts_with(b"CDF") {
+                len
+            } else {
+                len.saturating_mul(1100)
+            },
         })
     }
 
@@ -170,10 +181,9 @@ impl Exo {
 
     /// A variable's values in its own type `T` (the whole variable, or `selection`), as a
     /// vector. A whole variable is read straight into a vector of its size (no array to copy
-    /// from, no bytes decoded on the side: a large connectivity exists once) when that size is
-    /// one the file can hold — its bytes at most the file's, or 1100 times as many for
-    /// compressed data (deflate expands at most about 1032-fold) — so that a corrupt shape
-    /// cannot reserve memory; otherwise the reader's own array is taken.
+    /// from, no bytes decoded on the side: a large connectivity exists once) when the file can
+    /// hold that many values (`limit`), so that a corrupt shape cannot reserve memory;
+    /// otherwise the reader's own array is taken.
     fn native<T: NcReadable + Clone + Default>(
         &self,
         var: &str,
@@ -186,7 +196,7 @@ impl Exo {
                 .try_fold(1u64, |n, &d| n.checked_mul(d))
                 .and_then(|n| n.checked_mul(std::mem::size_of::<T>() as u64))
         });
-        if all && size.is_some_and(|b| b <= self.len.saturating_mul(1100)) {
+        if all && size.is_some_and(|b| b <= self.limit) {
             let n = size.unwrap_or(0) as usize / std::mem::size_of::<T>().max(1);
             let mut values = vec![T::default(); n];
             self.nc.read_variable_into(var, &mut values)?;
