@@ -160,6 +160,47 @@ fn exodus_steps_render_their_vtu_bit_for_bit() {
     );
 }
 
+/// HEX27, WEDGE18 and PYRAMID14 elements are the degree-2 Lagrange cells VTK stores them as
+/// (Exodus numbers their nodes otherwise: `tests/data/multistep/generate_higher.py`), a HEX20
+/// its corners with a warning; `Hexahedron_27` and `Wedge_18` in XDMF as well. The field is
+/// no quadratic, so a node out of place changes the image: the same cells with the Exodus
+/// node order taken for VTK's render otherwise.
+#[test]
+fn higher_order_exodus_and_xdmf_cells_render_their_vtu_bit_for_bit() {
+    // Exact integration samples the quadratic field inside the cells (interpolateCoeff would
+    // map it at the corners only and not see the mid-edge nodes).
+    let method = "exact linear 0.1 1";
+    let refs = ["higher_ref_0.vtu", "higher_ref_1.vtu"];
+    for file in ["higher.e", "higher_classic.e"] {
+        check_steps_with(file, &refs, -1.5, 1.9, method);
+    }
+    check_steps_with("higher.xdmf", &["higher_xdmf_ref.vtu"], -1.5, 1.9, method);
+    let scene = scene(-1.5, 1.9, method);
+    let right = render_steps(&data("higher_ref_0.vtu"), &[0], &scene);
+    let wrong = render_steps(&data("higher_wrong_0.vtu"), &[0], &scene);
+    assert!(
+        right != wrong,
+        "the test data cannot tell the node orders apart"
+    );
+    let (_, warnings) = Volume::load(&data("higher.e")).unwrap();
+    // Only the HEX20 is approximated. (The wedge's tetrahedra are re-oriented, as those of
+    // the same Lagrange wedge in the .vtu are: VTK's linear wedge, whose split it uses, has
+    // its bottom triangle the other way round.)
+    let messages: Vec<&str> = warnings.iter().map(|w| w.message.as_str()).collect();
+    let approximated: Vec<&&str> = messages.iter().filter(|m| m.contains("read as")).collect();
+    assert_eq!(approximated.len(), 1, "{messages:?}");
+    assert!(
+        approximated[0].contains("block 4 (HEX20): 20-node elements read as their 8 corners"),
+        "{messages:?}"
+    );
+    let (_, reference) = Volume::load(&data("higher_ref_0.vtu")).unwrap();
+    assert_eq!(
+        warnings.len(),
+        reference.len() + 1,
+        "{messages:?} {reference:?}"
+    );
+}
+
 #[test]
 fn exodus_blocks_become_the_byte_field_block_and_shells_are_skipped() {
     let (vol, warnings) = Volume::load(&data("flow.exo")).unwrap();
@@ -287,6 +328,8 @@ fn truncated_files_are_errors_not_panics() {
         "flow_classic.e",
         "flow_cdf1.e",
         "mixed.xdmf",
+        "higher_classic.e",
+        "higher.xdmf",
     ] {
         truncations_are_errors(file);
     }

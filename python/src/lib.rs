@@ -308,7 +308,9 @@ impl PyVolume {
         build(py, nodes, float32, cells, point_data, cell_data)
     }
     /// Volume.read(path): reads a mesh file of any format VoRANG reads (HyperMesh, .vtu,
-    /// .vtk, .msh). OSError for files that cannot be read, ValueError for invalid content.
+    /// .vtk, .msh, Exodus II, XDMF, VTKHDF; of a collection — .pvd, .pvtu, .vtm, .series —
+    /// or a file with time steps, step 0: vorang.Series.read gives them all). OSError for
+    /// files that cannot be read, ValueError for invalid content.
     #[staticmethod]
     fn read(py: Python<'_>, path: PathBuf) -> PyResult<Self> {
         if !path.exists() {

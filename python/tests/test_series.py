@@ -82,6 +82,45 @@ def test_files_with_their_own_steps_are_series(tmp_path):
             assert np.array_equal(vorang.render(s, step=2, **SCENE)[:, :, :3], ref), name
 
 
+def test_volume_read_takes_exodus_xdmf_and_vtkhdf():
+    """Volume.read of an Exodus II (netCDF-4, CDF-1, higher-order blocks), XDMF or VTKHDF
+    file is its step 0: the volume of the same data read from its reference .vtu
+    (tests/data/multistep/generate.py, generate_higher.py), image included; Series.read
+    gives every step of the higher-order file."""
+    multi = ROOT / "tests" / "data" / "multistep"
+    pairs = [
+        ("flow.exo", "exo_ref_0.vtu"),
+        ("flow_cdf1.e", "exo_ref_0.vtu"),
+        ("higher.e", "higher_ref_0.vtu"),
+        ("dolfinx.xdmf", "dolfinx_ref_0.vtu"),
+        ("higher.xdmf", "higher_xdmf_ref.vtu"),
+        ("flow.vtkhdf", "ref_0.vtu"),
+    ]
+    scene = dict(SCENE, method="interpolateCoeff linear 1")
+    for name, ref in pairs:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # skipped shells, HEX20 corners, re-oriented wedges
+            v = vorang.Volume.read(str(multi / name))
+            r = vorang.Volume.read(str(multi / ref))
+        assert (v.n_points, v.n_tets) == (r.n_points, r.n_tets), name
+        assert v.field_names == r.field_names, name
+        for f in r.field_names:
+            try:
+                expected = r.field_range(f)
+            except ValueError:  # a vector field has no single range
+                continue
+            assert v.field_range(f) == expected, (name, f)
+        assert np.array_equal(vorang.render(v, **scene), vorang.render(r, **scene)), name
+    with pytest.warns(UserWarning, match="HEX20"):
+        s = vorang.Series.read(str(multi / "higher.e"))
+        s[0]
+    assert s.times == [0.0, 1.0]
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        r = vorang.Volume.read(str(multi / "higher_ref_1.vtu"))
+    assert np.array_equal(vorang.render(s, step=1, **scene), vorang.render(r, **scene))
+
+
 def test_range_spans_all_steps():
     s = vorang.Series.read(str(SERIES / "flow.pvd"))
     lo = min(s[k].field_range("T")[0] for k in range(3))

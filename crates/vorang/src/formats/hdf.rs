@@ -5,7 +5,8 @@
 //! `.vtu`), attributes become numbers or text, and every failure becomes a [`ParseError`] that
 //! names the file and the object (`flow.vtkhdf: dataset /VTKHDF/Points: …`), never a panic.
 //!
-//! A file on disk is memory-mapped: a step of a long time series reads only its own slices.
+//! A file on disk is read by ranges from the open file: a step of a long time series reads
+//! only its own slices.
 
 use std::path::Path;
 

@@ -27,9 +27,16 @@ pub(super) fn tetrahedra(
 ) -> Result<Tetrahedra, ParseError> {
     let err = |line: usize, msg: String| ParseError::new(source, line.max(1), msg);
     let n_nodes = nodes.len();
+    // Every volume cell gives at least one tetrahedron: room for a file of tetrahedra at once
+    // (no vector grown past what it holds at the load's highest point).
+    let volume_cells = cells
+        .types
+        .iter()
+        .filter(|&&t| cell_type::is_volume(t))
+        .count();
     let mut out = Tetrahedra {
-        tets: Vec::new(),
-        parent: Vec::new(),
+        tets: Vec::with_capacity(volume_cells),
+        parent: Vec::with_capacity(volume_cells),
         skipped: HashMap::new(),
         midpoints: HashMap::new(),
         quadratic: false,

@@ -13,6 +13,50 @@ use crate::formats::{Array, ArrayValues};
 use crate::mesh::TetMesh;
 use crate::volume::DataSet;
 
+/// A cell array as read, or its values per tetrahedron already made ([`early`]).
+pub(super) enum CellArray {
+    Read(Array),
+    Made {
+        name: String,
+        line: usize,
+        ty: DataType,
+        values: Values,
+    },
+}
+
+/// The cell arrays whose values per tetrahedron take no more room than the array as read
+/// (a byte array of 64-bit integers on tetrahedra: material or block ids) made now, before the
+/// mesh is built, so that the array is freed before the mesh's adjacency, the highest point of
+/// a load's memory; the others as read (on hexahedra, made now, they would be larger then).
+/// The fields are the same either way.
+pub(super) fn early(arrays: Vec<Array>, parent: &[u32]) -> Vec<CellArray> {
+    arrays
+        .into_iter()
+        .map(|a| {
+            let (stored, made) = match &a.values {
+                ArrayValues::F32(_) => (4, 4),
+                ArrayValues::F64(_) => (8, 8),
+                ArrayValues::Int(x) => {
+                    let byte = a.components == 1 && x.iter().all(|v| (0..=255).contains(v));
+                    (8, if byte { 1 } else { 8 })
+                }
+            };
+            let room = |n: usize, bytes: usize| n.saturating_mul(bytes);
+            if room(parent.len().saturating_mul(a.components), made) > room(a.values.len(), stored)
+            {
+                return CellArray::Read(a);
+            }
+            let (ty, values) = cell_values(&a.values, a.components, parent);
+            CellArray::Made {
+                name: a.name,
+                line: a.line,
+                ty,
+                values,
+            }
+        })
+        .collect()
+}
+
 /// The raw data and fields of the arrays, in file order (point arrays first). `edges` and
 /// `midpoints` are given for files with quadratic cells; `parent` is each tetrahedron's cell.
 pub(super) fn data_set(
@@ -21,7 +65,7 @@ pub(super) fn data_set(
     edges: Option<&[[u32; 2]]>,
     midpoints: &HashMap<(u32, u32), u32>,
     point_arrays: Vec<Array>,
-    cell_arrays: Vec<Array>,
+    cell_arrays: Vec<CellArray>,
     parent: &[u32],
 ) -> DataSet {
     let origin = |line: usize| Origin {
@@ -44,7 +88,18 @@ pub(super) fn data_set(
         }
     }
     for a in cell_arrays {
-        let (ty, values) = cell_values(&a.values, a.components, parent);
+        let (name, line, ty, values) = match a {
+            CellArray::Read(a) => {
+                let (ty, values) = cell_values(&a.values, a.components, parent);
+                (a.name, a.line, ty, values)
+            }
+            CellArray::Made {
+                name,
+                line,
+                ty,
+                values,
+            } => (name, line, ty, values),
+        };
         data.raw.push(RawData {
             kind: ElementKind::Tetrahedron,
             ty,
@@ -52,12 +107,12 @@ pub(super) fn data_set(
             values,
         });
         data.fields.push(Field {
-            name: Some(a.name),
+            name: Some(name),
             ty,
             denominator: None,
             interpolator: Interpolator::Constant,
             sources: vec![data.raw.len() - 1],
-            origin: origin(a.line),
+            origin: origin(line),
         });
     }
     data

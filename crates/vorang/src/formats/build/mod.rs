@@ -131,6 +131,7 @@ pub fn volume_with_shape(
             "no volume cells (tetrahedra, hexahedra, voxels, wedges, pyramids, quadratic tetrahedra, Lagrange cells or polyhedra): nothing to render".into(),
         ));
     }
+    let cell_arrays = fields::early(cell_arrays, &parent);
     let mesh = tet_mesh(
         &source,
         nodes,
@@ -222,7 +223,10 @@ pub fn fields_on(
         like.edges.as_deref(),
         &shape.midpoints,
         point_arrays,
-        cell_arrays,
+        cell_arrays
+            .into_iter()
+            .map(fields::CellArray::Read)
+            .collect(),
         &shape.parent,
     );
     let vol = Volume::sharing_geometry(like, source, data)?;

@@ -21,26 +21,82 @@ pub(super) struct Block {
     kept: bool,
 }
 
-/// The VTK type of an `elem_type` with `nodes` nodes per element, and how many of the nodes
-/// it takes (the corners, for the higher-order elements VoRANG has no cell for); `None`:
-/// not a volume element.
-fn cell_type(elem_type: &str, nodes: usize) -> Option<(u8, usize)> {
+/// How the elements of a block become VTK cells: the VTK type, and for each of the cell's
+/// nodes (in VTK's order) the element's node it is (0-based, in Exodus's order).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Kind {
+    ty: u8,
+    order: &'static [usize],
+    /// Whether the cell renders the element as it is (not only some of its nodes).
+    exact: bool,
+}
+
+/// The first `n` node numbers (the linear cells, the corners of the higher-order ones, and
+/// the quadratic tetrahedron, whose mid-edge nodes Exodus numbers as VTK does).
+const IDENTITY: [usize; 14] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13];
+
+/// `HEX27` as a degree-2 Lagrange hexahedron. Exodus lists the mid-edge nodes of the
+/// vertical edges (1-5, 2-6, 3-7, 4-8) before those of the top face, VTK after; and its
+/// centre node first (21), then the face nodes of the bottom, top, x = 0 (1-4-8-5),
+/// x = 1 (2-3-7-6), y = 0 (1-2-6-5) and y = 1 (3-4-8-7) faces, where VTK has x = 0, x = 1,
+/// y = 0, y = 1, bottom, top, centre (the Exodus II manual's HEX27 figure; VTK's own Exodus
+/// reader and libMesh's Exodus writer number it the same way).
+const HEX27: [usize; 27] = [
+    0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 16, 17, 18, 19, 12, 13, 14, 15, 23, 24, 25, 26, 21, 22,
+    20,
+];
+
+/// `WEDGE18` as a degree-2 Lagrange wedge: Exodus lists the vertical edges' nodes (1-4, 2-5,
+/// 3-6) before the top triangle's, VTK after; the three quadrilateral faces' centres (1-2-5-4,
+/// 2-3-6-5, 3-1-4-6) come last in both.
+const WEDGE18: [usize; 18] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 13, 14, 9, 10, 11, 15, 16, 17];
+
+/// How elements of `elem_type` with `nodes` nodes each become cells; `None`: not a volume
+/// element. Elements VoRANG has no exact cell for (the serendipity `HEX20`, `WEDGE15`,
+/// `PYRAMID13`, and other node counts) keep their corners (`exact` false); a tetrahedron with
+/// more than 10 nodes (`TETRA14`, `TETRA15`: face nodes) its 10 quadratic nodes.
+fn kind(elem_type: &str, nodes: usize) -> Option<Kind> {
     let t = elem_type.trim().to_ascii_uppercase();
-    let (linear, corners) = if t.starts_with("TET") {
-        if nodes == 10 {
-            return Some((vtk::QUADRATIC_TETRA, 10));
-        }
-        (vtk::TETRA, 4)
-    } else if t.starts_with("HEX") {
-        (vtk::HEXAHEDRON, 8)
-    } else if t.starts_with("WEDGE") {
-        (vtk::WEDGE, 6)
-    } else if t.starts_with("PYR") {
-        (vtk::PYRAMID, 5)
-    } else {
-        return None;
+    let exact = |ty: u8, order: &'static [usize]| Kind {
+        ty,
+        order,
+        exact: true,
     };
-    (nodes >= corners).then_some((linear, corners))
+    let corners = |ty: u8, n: usize| {
+        (nodes >= n).then_some(Kind {
+            ty,
+            order: &IDENTITY[..n],
+            exact: nodes == n,
+        })
+    };
+    if t.starts_with("TET") {
+        if nodes >= 10 {
+            return Some(Kind {
+                exact: nodes == 10,
+                ..exact(vtk::QUADRATIC_TETRA, &IDENTITY[..10])
+            });
+        }
+        corners(vtk::TETRA, 4)
+    } else if t.starts_with("HEX") {
+        if nodes == 27 {
+            return Some(exact(vtk::LAGRANGE_HEXAHEDRON, &HEX27));
+        }
+        corners(vtk::HEXAHEDRON, 8)
+    } else if t.starts_with("WEDGE") {
+        if nodes == 18 {
+            return Some(exact(vtk::LAGRANGE_WEDGE, &WEDGE18));
+        }
+        corners(vtk::WEDGE, 6)
+    } else if t.starts_with("PYR") {
+        // PYRAMID14: corners, mid-edge nodes (base, then to the apex), the base's centre —
+        // the order of VoRANG's degree-2 Lagrange pyramid (crates/vorang/src/formats/lagrange.rs).
+        if nodes == 14 {
+            return Some(exact(vtk::LAGRANGE_PYRAMID, &IDENTITY[..14]));
+        }
+        corners(vtk::PYRAMID, 5)
+    } else {
+        None
+    }
 }
 
 /// The blocks' cells into `cells` (node numbers checked against `points`), warnings for the
@@ -99,7 +155,7 @@ pub(super) fn read(
         let shape = exo.shape(&var)?;
         let per = shape.get(1).copied().unwrap_or(0) as usize;
         let elem_type = exo.text_attr(&var, "elem_type").unwrap_or_default();
-        let Some((ty, take)) = cell_type(&elem_type, per) else {
+        let Some(kind) = kind(&elem_type, per) else {
             warn(
                 warnings,
                 format!("block {id} ({elem_type}, {per} nodes) is not a volume block: skipped"),
@@ -112,15 +168,21 @@ pub(super) fn read(
             });
             continue;
         };
-        if take < per && ty != vtk::QUADRATIC_TETRA {
+        if !kind.exact {
+            let take = kind.order.len();
+            let what = if take == 10 {
+                "quadratic nodes"
+            } else {
+                "corners"
+            };
             warn(
                 warnings,
                 format!(
-                    "block {id} ({elem_type}): {per}-node elements read as their {take} corners (VoRANG has no cell for them)"
+                    "block {id} ({elem_type}): {per}-node elements read as their {take} {what} (VoRANG has no cell for them): the field is interpolated from those nodes only"
                 ),
             );
         }
-        let conn = exo.read(&var, &[])?;
+        let conn = exo.read_nodes(&var)?;
         if per == 0 || Some(conn.len()) != elements.checked_mul(per) {
             return Err(exo.error(
                 &format!("variable {var}"),
@@ -130,17 +192,21 @@ pub(super) fn read(
                 ),
             ));
         }
-        let mut nodes = Vec::with_capacity(take);
+        // The numbers are in memory: the cells they make can be reserved.
+        cells.types.reserve(elements);
+        cells.offsets.reserve(elements + 1);
+        cells.connectivity.reserve(elements * kind.order.len());
+        let mut nodes = Vec::with_capacity(kind.order.len());
         for e in 0..elements {
             nodes.clear();
-            for k in 0..take {
+            for &k in kind.order {
                 let n = conn.get(e * per + k) as i64;
                 if n < 1 || n as usize > points {
                     return Err(exo.error(&format!("variable {var}"), format!("element {}: node {n} is not one of the {points} nodes (numbered from 1)", e + 1)));
                 }
                 nodes.push(n as u64 - 1);
             }
-            cells.push(ty, &nodes);
+            cells.push(kind.ty, &nodes);
         }
         blocks.push(Block {
             id,
@@ -230,17 +296,131 @@ pub(super) fn element_arrays(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::formats::lagrange::Shape;
+
+    fn ty(elem_type: &str, nodes: usize) -> Option<(u8, usize, bool)> {
+        kind(elem_type, nodes).map(|k| (k.ty, k.order.len(), k.exact))
+    }
 
     #[test]
     fn element_types_by_name_and_node_count() {
-        assert_eq!(cell_type("TETRA", 4), Some((vtk::TETRA, 4)));
-        assert_eq!(cell_type("tet4", 4), Some((vtk::TETRA, 4)));
-        assert_eq!(cell_type("TETRA10", 10), Some((vtk::QUADRATIC_TETRA, 10)));
-        assert_eq!(cell_type("HEX27", 27), Some((vtk::HEXAHEDRON, 8)));
-        assert_eq!(cell_type("Wedge6", 6), Some((vtk::WEDGE, 6)));
-        assert_eq!(cell_type("PYRAMID5", 5), Some((vtk::PYRAMID, 5)));
-        assert_eq!(cell_type("SHELL4", 4), None);
-        assert_eq!(cell_type("QUAD4", 4), None);
-        assert_eq!(cell_type("TETRA", 3), None);
+        assert_eq!(ty("TETRA", 4), Some((vtk::TETRA, 4, true)));
+        assert_eq!(ty("tet4", 4), Some((vtk::TETRA, 4, true)));
+        assert_eq!(ty("TETRA10", 10), Some((vtk::QUADRATIC_TETRA, 10, true)));
+        assert_eq!(ty("TETRA14", 14), Some((vtk::QUADRATIC_TETRA, 10, false)));
+        assert_eq!(ty("HEX27", 27), Some((vtk::LAGRANGE_HEXAHEDRON, 27, true)));
+        assert_eq!(ty("HEX20", 20), Some((vtk::HEXAHEDRON, 8, false)));
+        assert_eq!(ty("Wedge6", 6), Some((vtk::WEDGE, 6, true)));
+        assert_eq!(ty("WEDGE15", 15), Some((vtk::WEDGE, 6, false)));
+        assert_eq!(ty("WEDGE18", 18), Some((vtk::LAGRANGE_WEDGE, 18, true)));
+        assert_eq!(ty("PYRAMID5", 5), Some((vtk::PYRAMID, 5, true)));
+        assert_eq!(ty("PYRAMID13", 13), Some((vtk::PYRAMID, 5, false)));
+        assert_eq!(ty("PYRAMID14", 14), Some((vtk::LAGRANGE_PYRAMID, 14, true)));
+        assert_eq!(ty("SHELL4", 4), None);
+        assert_eq!(ty("QUAD4", 4), None);
+        assert_eq!(ty("TETRA", 3), None);
+    }
+
+    /// Where the Exodus II manual places each node of an element (on the unit cell, times 2:
+    /// the degree-2 lattice), checked against where VoRANG's Lagrange cells expect the node
+    /// that the order puts there.
+    fn check_order(shape: Shape, exodus: &[[usize; 3]], order: &[usize]) {
+        assert_eq!(exodus.len(), order.len());
+        for (v, &e) in order.iter().enumerate() {
+            assert_eq!(
+                shape.index(2, exodus[e]),
+                v,
+                "{shape:?}: VTK node {v} = Exodus node {}",
+                e + 1
+            );
+        }
+    }
+
+    #[test]
+    fn hex27_nodes_land_where_the_lagrange_hexahedron_has_them() {
+        let mut exodus = vec![
+            [0, 0, 0],
+            [2, 0, 0],
+            [2, 2, 0],
+            [0, 2, 0],
+            [0, 0, 2],
+            [2, 0, 2],
+            [2, 2, 2],
+            [0, 2, 2],
+            // Bottom edges, vertical edges, top edges.
+            [1, 0, 0],
+            [2, 1, 0],
+            [1, 2, 0],
+            [0, 1, 0],
+            [0, 0, 1],
+            [2, 0, 1],
+            [2, 2, 1],
+            [0, 2, 1],
+            [1, 0, 2],
+            [2, 1, 2],
+            [1, 2, 2],
+            [0, 1, 2],
+        ];
+        // Centre; faces bottom, top, 1-4-8-5 (x = 0), 2-3-7-6, 1-2-6-5 (y = 0), 3-4-8-7.
+        exodus.extend([
+            [1, 1, 1],
+            [1, 1, 0],
+            [1, 1, 2],
+            [0, 1, 1],
+            [2, 1, 1],
+            [1, 0, 1],
+            [1, 2, 1],
+        ]);
+        check_order(Shape::Hexahedron, &exodus, &HEX27);
+    }
+
+    #[test]
+    fn wedge18_nodes_land_where_the_lagrange_wedge_has_them() {
+        let exodus = [
+            [0, 0, 0],
+            [2, 0, 0],
+            [0, 2, 0],
+            [0, 0, 2],
+            [2, 0, 2],
+            [0, 2, 2],
+            // Bottom edges 1-2, 2-3, 3-1; vertical 1-4, 2-5, 3-6; top 4-5, 5-6, 6-4.
+            [1, 0, 0],
+            [1, 1, 0],
+            [0, 1, 0],
+            [0, 0, 1],
+            [2, 0, 1],
+            [0, 2, 1],
+            [1, 0, 2],
+            [1, 1, 2],
+            [0, 1, 2],
+            // Faces 1-2-5-4, 2-3-6-5, 3-1-4-6.
+            [1, 0, 1],
+            [1, 1, 1],
+            [0, 1, 1],
+        ];
+        check_order(Shape::Wedge, &exodus, &WEDGE18);
+    }
+
+    #[test]
+    fn pyramid14_nodes_land_where_the_lagrange_pyramid_has_them() {
+        // Corners as the Lagrange pyramid places them (apex at (0, 0, 2)), then the
+        // midpoints of the edges 1-2, 2-3, 3-4, 4-1, 1-5, 2-5, 3-5, 4-5 and of the base.
+        let c: Vec<[usize; 3]> = (0..5).map(|v| Shape::Pyramid.corner(2, v)).collect();
+        let mid = |a: usize, b: usize| [0, 1, 2].map(|d| (c[a][d] + c[b][d]) / 2);
+        let mut exodus = c.clone();
+        for (a, b) in [
+            (0, 1),
+            (1, 2),
+            (2, 3),
+            (3, 0),
+            (0, 4),
+            (1, 4),
+            (2, 4),
+            (3, 4),
+            (0, 2),
+        ] {
+            exodus.push(mid(a, b));
+        }
+        check_order(Shape::Pyramid, &exodus, &IDENTITY[..14]);
     }
 }

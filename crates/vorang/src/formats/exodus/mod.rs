@@ -14,7 +14,7 @@ mod blocks;
 
 use std::path::{Path, PathBuf};
 
-use netcdf_reader::{NcFile, NcSliceInfo, NcSliceInfoElem, NcType};
+use netcdf_reader::{NcFile, NcReadable, NcSliceInfo, NcSliceInfoElem, NcType};
 
 use super::{Array, ArrayValues, FileStep, MeshDescription};
 use crate::error::ParseError;
@@ -34,24 +34,61 @@ pub fn sniff(head: &[u8]) -> bool {
 pub(super) struct Exo {
     nc: NcFile,
     name: String,
+    /// How many bytes a variable read whole may claim (see `native`): the file's length for
+    /// a classic file, 1100 times that for netCDF-4, whose data may be compressed (deflate
+    /// expands at most about 1032-fold).
+    limit: u64,
 }
 
 impl Exo {
     fn open(path: &Path, name: &str) -> Result<Exo, ParseError> {
-        let nc = NcFile::open(path)
-            .map_err(|e| ParseError::new(name, 0, format!("not a readable netCDF file: {e}")))?;
+        let bad = |e: &dyn std::fmt::Display| {
+            ParseError::new(name, 0, format!("not a readable netCDF file: {e}"))
+        };
+        let mut file = std::fs::File::open(path).map_err(|e| bad(&e))?;
+        let len = file.metadata().map_err(|e| bad(&e))?.len();
+        let mut magic = [0u8; 4];
+        let classic =
+            std::io::Read::read_exact(&mut file, &mut magic).is_ok() && magic.starts_with(b"CDF");
+        let nc = if classic {
+            // netcdf-reader maps classic files itself and reads from the map.
+            NcFile::open(path).map_err(|e| bad(&e))?
+        } else {
+            // A netCDF-4 file is mapped here and read from the map, so that a variable is
+            // copied once, into its vector (netcdf-reader's own `open` reads each range into
+            // a buffer first, which doubles a connectivity while it is read: docs/formats.md,
+            // "Speed and memory").
+            // SAFETY: the map is only read; as for every mapped file, another program
+            // truncating the file meanwhile is not guarded against (netcdf-reader maps
+            // classic files the same way).
+            let map = unsafe { memmap2::Mmap::map(&file) }.map_err(|e| bad(&e))?;
+            let storage: netcdf_reader::DynStorage =
+                std::sync::Arc::new(netcdf_reader::MmapStorage::new(map));
+            NcFile::from_storage(storage).map_err(|e| bad(&e))?
+        };
         Ok(Exo {
             nc,
             name: name.to_string(),
+            limit: if classic {
+                len
+            } else {
+                len.saturating_mul(1100)
+            },
         })
     }
 
     fn from_bytes(bytes: &[u8], name: &str) -> Result<Exo, ParseError> {
         let nc = NcFile::from_bytes(bytes)
             .map_err(|e| ParseError::new(name, 0, format!("not a readable netCDF file: {e}")))?;
+        let len = bytes.len() as u64;
         Ok(Exo {
             nc,
             name: name.to_string(),
+            limit: if bytes.starts_with(b"CDF") {
+                len
+            } else {
+                len.saturating_mul(1100)
+            },
         })
     }
 
@@ -88,7 +125,9 @@ impl Exo {
     }
 
     /// A whole variable, or one index of its first dimensions (`at`: the time step, then the
-    /// variable for the old `vals_nod_var`), in the variable's own number type.
+    /// variable for the old `vals_nod_var`), in the variable's own number type. `float`,
+    /// `double`, `int` and `int64` variables are read as they are stored (no copy through
+    /// `f64`: the coordinates and values of a large mesh are read once).
     pub(super) fn read(&self, var: &str, at: &[u64]) -> Result<ArrayValues, ParseError> {
         let what = format!("variable {var}");
         let v = self.nc.variable(var).map_err(|e| self.error(&what, e))?;
@@ -101,36 +140,101 @@ impl Exo {
                 ));
             }
         }
-        let values = if at.is_empty() {
-            self.nc.read_variable_as_f64(var)
-        } else {
-            let mut selections: Vec<NcSliceInfoElem> =
-                at.iter().map(|&i| NcSliceInfoElem::Index(i)).collect();
-            selections.resize(
-                shape.len(),
-                NcSliceInfoElem::Slice {
-                    start: 0,
-                    end: u64::MAX,
-                    step: 1,
-                },
-            );
-            self.nc
-                .read_variable_slice_as_f64(var, &NcSliceInfo { selections })
-        }
-        .map_err(|e| self.error(&what, e))?;
-        let values: Vec<f64> = values.into_iter().collect();
+        let mut selections: Vec<NcSliceInfoElem> =
+            at.iter().map(|&i| NcSliceInfoElem::Index(i)).collect();
+        selections.resize(
+            shape.len(),
+            NcSliceInfoElem::Slice {
+                start: 0,
+                end: u64::MAX,
+                step: 1,
+            },
+        );
+        let selection = NcSliceInfo { selections };
+        let all = at.is_empty();
+        let err = |e: netcdf_reader::Error| self.error(&what, e);
         Ok(match v.dtype() {
-            NcType::Float => ArrayValues::F32(values.into_iter().map(|x| x as f32).collect()),
-            NcType::Double => ArrayValues::F64(values),
+            NcType::Float => ArrayValues::F32(self.native(var, all, &selection).map_err(err)?),
+            NcType::Double => ArrayValues::F64(self.native(var, all, &selection).map_err(err)?),
+            NcType::Int => {
+                let values: Vec<i32> = self.native(var, all, &selection).map_err(err)?;
+                ArrayValues::Int(values.into_iter().map(i64::from).collect())
+            }
+            NcType::Int64 => ArrayValues::Int(self.native(var, all, &selection).map_err(err)?),
             NcType::Byte
             | NcType::UByte
             | NcType::Short
             | NcType::UShort
-            | NcType::Int
             | NcType::UInt
-            | NcType::Int64
-            | NcType::UInt64 => ArrayValues::Int(values.into_iter().map(|x| x as i64).collect()),
+            | NcType::UInt64 => {
+                let values = if all {
+                    self.nc.read_variable_as_f64(var)
+                } else {
+                    self.nc.read_variable_slice_as_f64(var, &selection)
+                }
+                .map_err(err)?;
+                ArrayValues::Int(values.into_iter().map(|x| x as i64).collect())
+            }
             other => return Err(self.error(&what, format!("expected numbers, found {other:?}"))),
+        })
+    }
+
+    /// A variable's values in its own type `T` (the whole variable, or `selection`), as a
+    /// vector. A whole variable is read straight into a vector of its size (no array to copy
+    /// from, no bytes decoded on the side: a large connectivity exists once) when the file can
+    /// hold that many values (`limit`), so that a corrupt shape cannot reserve memory;
+    /// otherwise the reader's own array is taken.
+    fn native<T: NcReadable + Clone + Default>(
+        &self,
+        var: &str,
+        all: bool,
+        selection: &NcSliceInfo,
+    ) -> Result<Vec<T>, netcdf_reader::Error> {
+        let size = self.nc.variable(var).ok().and_then(|v| {
+            v.shape()
+                .iter()
+                .try_fold(1u64, |n, &d| n.checked_mul(d))
+                .and_then(|n| n.checked_mul(std::mem::size_of::<T>() as u64))
+        });
+        if all && size.is_some_and(|b| b <= self.limit) {
+            let n = size.unwrap_or(0) as usize / std::mem::size_of::<T>().max(1);
+            let mut values = vec![T::default(); n];
+            self.nc.read_variable_into(var, &mut values)?;
+            return Ok(values);
+        }
+        let a = if all {
+            self.nc.read_variable::<T>(var)?
+        } else {
+            self.nc.read_variable_slice::<T>(var, selection)?
+        };
+        let n = a.len();
+        if !a.is_standard_layout() {
+            return Ok(a.iter().cloned().collect());
+        }
+        let (mut values, offset) = a.into_raw_vec_and_offset();
+        let offset = offset.unwrap_or(0);
+        if offset > 0 {
+            values.drain(..offset.min(values.len()));
+        }
+        values.truncate(n);
+        Ok(values)
+    }
+
+    /// A connectivity variable: its node numbers as stored (`int` or `int64`; other number
+    /// types converted), without widening 32-bit numbers.
+    pub(super) fn read_nodes(&self, var: &str) -> Result<Nodes, ParseError> {
+        let what = format!("variable {var}");
+        let v = self.nc.variable(var).map_err(|e| self.error(&what, e))?;
+        let all = NcSliceInfo {
+            selections: Vec::new(),
+        };
+        let err = |e: netcdf_reader::Error| self.error(&what, e);
+        Ok(match v.dtype() {
+            NcType::Int => Nodes::I32(self.native(var, true, &all).map_err(err)?),
+            _ => match self.read(var, &[])? {
+                ArrayValues::Int(v) => Nodes::I64(v),
+                other => Nodes::I64((0..other.len()).map(|i| other.get(i) as i64).collect()),
+            },
         })
     }
 
@@ -147,6 +251,28 @@ impl Exo {
             .into_iter()
             .map(|s| s.trim_end_matches('\0').trim().to_string())
             .collect())
+    }
+}
+
+/// The node numbers of a block's connectivity, as the file stores them.
+pub(super) enum Nodes {
+    I32(Vec<i32>),
+    I64(Vec<i64>),
+}
+
+impl Nodes {
+    pub(super) fn len(&self) -> usize {
+        match self {
+            Nodes::I32(v) => v.len(),
+            Nodes::I64(v) => v.len(),
+        }
+    }
+
+    pub(super) fn get(&self, i: usize) -> i64 {
+        match self {
+            Nodes::I32(v) => i64::from(v[i]),
+            Nodes::I64(v) => v[i],
+        }
     }
 }
 

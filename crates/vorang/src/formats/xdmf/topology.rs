@@ -1,6 +1,11 @@
 //! XDMF Topology and Geometry to VoRANG's cells and points. XDMF numbers the nodes of its
 //! cells as VTK does (Tetrahedron_10 included), so a cell only needs its VTK type; a Mixed
 //! topology gives each cell's XDMF type code before its nodes (docs/formats.md, "XDMF").
+//! `Hexahedron_27` and `Wedge_18` are VTK's triquadratic hexahedron and biquadratic-quadratic
+//! wedge, whose nodes are those of the degree-2 Lagrange hexahedron and wedge in the same
+//! order (crates/vorang/src/formats/lagrange.rs), so they become those; the serendipity
+//! `Hexahedron_20`, `Wedge_15` and `Pyramid_13` stay VTK's quadratic cells, which VoRANG skips
+//! as the `.vtu` reader does.
 
 use super::data::Items;
 use super::tree::Node;
@@ -17,6 +22,11 @@ fn by_name(name: &str) -> Option<(u8, usize)> {
         "hexahedron" => (vtk::HEXAHEDRON, 8),
         "wedge" => (vtk::WEDGE, 6),
         "pyramid" => (vtk::PYRAMID, 5),
+        "hexahedron_27" | "hex_27" => (vtk::LAGRANGE_HEXAHEDRON, 27),
+        "wedge_18" => (vtk::LAGRANGE_WEDGE, 18),
+        "hexahedron_20" | "hex_20" => (25, 20),
+        "wedge_15" => (26, 15),
+        "pyramid_13" => (27, 13),
         "triangle" => (vtk::TRIANGLE, 3),
         "quadrilateral" => (vtk::QUAD, 4),
         "polyline" => (vtk::LINE, 2),
@@ -45,8 +55,9 @@ fn by_code(code: i64) -> Option<(u8, usize)> {
         38 => (vtk::QUADRATIC_TETRA, 10),
         39 => (27, 13), // 13-node pyramid
         40 => (26, 15), // 15-node wedge
+        41 => (vtk::LAGRANGE_WEDGE, 18),
         48 => (25, 20), // 20-node hexahedron
-        50 => (29, 27), // 27-node hexahedron
+        50 => (vtk::LAGRANGE_HEXAHEDRON, 27),
         _ => return None,
     })
 }
@@ -191,7 +202,7 @@ pub fn cells(items: &mut Items, t: &Node, points: usize) -> Result<Cells, ParseE
     let (ty, mut per) = by_name(kind).ok_or_else(|| {
         items.error(
             t.line,
-            format!("TopologyType=\"{kind}\": VoRANG reads Tetrahedron, Tetrahedron_10, Hexahedron, Wedge, Pyramid and Mixed (Triangle, Quadrilateral, Polyline and Polyvertex are skipped)"),
+            format!("TopologyType=\"{kind}\": VoRANG reads Tetrahedron, Tetrahedron_10, Hexahedron, Hexahedron_27, Wedge, Wedge_18, Pyramid and Mixed (Triangle, Quadrilateral, Polyline, Polyvertex, Hexahedron_20, Wedge_15 and Pyramid_13 are skipped)"),
         )
     })?;
     if let Some(n) = t
