@@ -2,7 +2,6 @@
 //! orientation predicates so that both cells of a face always agree.
 
 use std::collections::BinaryHeap;
-use std::sync::atomic::{AtomicU8, Ordering::Relaxed};
 
 use rayon::prelude::*;
 
@@ -56,10 +55,9 @@ fn behind_count(state: u8) -> u8 {
     (state >> 4) & 7
 }
 
-/// The relation for every cell, in parallel, each cell's byte made by `wrap` (plain for the
-/// serial sort, atomic for the parallel one). Both cells of a face evaluate the same exact
+/// The relation for every cell, in parallel. Both cells of a face evaluate the same exact
 /// predicate (with the face's nodes in opposite orders), so they always agree.
-fn relation<T: Send>(input: &SortInput, wrap: fn(u8) -> T) -> Vec<T> {
+fn relation(input: &SortInput) -> Vec<u8> {
     let nbs = input.mesh.neighbors();
     (0..input.mesh.tet_count())
         .into_par_iter()
@@ -78,7 +76,7 @@ fn relation<T: Send>(input: &SortInput, wrap: fn(u8) -> T) -> Vec<T> {
                     _ => {}
                 }
             }
-            wrap(state)
+            state
         })
         .collect()
 }
@@ -110,14 +108,12 @@ trait Ready {
     fn into_order(self) -> Vec<u32>;
 }
 
-/// First in, first out: the serial MPVO the parallel one is tested against.
-#[cfg(test)]
+/// First in, first out.
 struct Fifo {
     cells: Vec<u32>,
     next: usize,
 }
 
-#[cfg(test)]
 impl Ready for Fifo {
     const KEEPS_ORDER: bool = true;
     fn push(&mut self, cell: u32, _: &SortInput) {
@@ -167,7 +163,7 @@ impl Ready for BinaryHeap<Far> {
 fn topological<Q: Ready>(input: &SortInput, mut ready: Q) -> Order {
     let n = input.mesh.tet_count();
     let nbs = input.mesh.neighbors();
-    let mut state = relation(input, |s| s);
+    let mut state = relation(input);
     let enqueue = |c: usize, state: &mut [u8], ready: &mut Q| {
         state[c] |= QUEUED;
         ready.push(c as u32, input);
@@ -223,142 +219,13 @@ fn topological<Q: Ready>(input: &SortInput, mut ready: Q) -> Order {
     }
 }
 
-/// MPVO on every core: Kahn's algorithm a level at a time. A level is every cell whose
-/// neighbours behind it have all been placed in earlier levels; a large level's cells release
-/// their neighbours in front in parallel (an atomic count per cell, so each newly ready cell is
-/// taken by exactly one thread), a small one's on the calling thread — which is then exactly
-/// the serial FIFO sort.
-///
-/// Which cells form each level depends on the mesh and the view alone; the order inside a
-/// level released in parallel depends on the threads' timing, and that changes no image: the
-/// cells a ray crosses are chained by faces, each behind the next, so they lie in different
-/// levels, and every pixel composites its cells in the one order the levels give (per-pixel
-/// runs, where a frame keeps them, compare a cell only with the neighbours across the faces a
-/// ray crosses, which lie in other levels too). Thus a valid MPVO order, the same image bit
-/// for bit with any number of threads.
 fn mpvo(input: &SortInput) -> Order {
-    levels(input, PARALLEL_LEVEL).0
-}
-
-/// [`mpvo`], releasing levels of at least `parallel_level` cells in parallel; also where each
-/// level ends in the order.
-fn levels(input: &SortInput, parallel_level: usize) -> (Order, Vec<usize>) {
-    let n = input.mesh.tet_count();
-    let nbs = input.mesh.neighbors();
-    let state = relation(input, AtomicU8::new);
-    // The order is its own queue: a level is a stretch of it, its successors are appended.
-    let mut order: Vec<u32> = (0..n as u32)
-        .into_par_iter()
-        .with_min_len(4096)
-        .filter(|&c| {
-            let s = &state[c as usize];
-            let ready = behind_count(s.load(Relaxed)) == 0;
-            if ready {
-                s.fetch_or(QUEUED, Relaxed);
-            }
-            ready
-        })
-        .collect();
-    order.reserve_exact(n - order.len());
-    let mut ends = Vec::new();
-    let mut cycle_cells = 0;
-    let parallel = rayon::current_num_threads() > 1;
-    let mut start = 0;
-    loop {
-        while start < order.len() {
-            let end = order.len();
-            if end - start < parallel_level || !parallel {
-                for i in start..end {
-                    let c = order[i];
-                    release::<false>(c, nbs, &state, &mut order);
-                }
-            } else {
-                let next: Vec<u32> = order[start..end]
-                    .par_chunks(LEVEL_CHUNK)
-                    .flat_map_iter(|chunk| {
-                        let mut next = Vec::new();
-                        for &c in chunk {
-                            release::<true>(c, nbs, &state, &mut next);
-                        }
-                        next
-                    })
-                    .collect();
-                order.extend_from_slice(&next);
-            }
-            ends.push(end);
-            start = end;
-        }
-        if order.len() == n {
-            break;
-        }
-        // A visibility cycle: the farthest cell still waiting goes next, as in `topological`.
-        let Some(c) = (0..n)
-            .into_par_iter()
-            .filter(|&c| state[c].load(Relaxed) & QUEUED == 0)
-            .max_by(|&a, &b| depth(input, a).total_cmp(&depth(input, b)).then(b.cmp(&a)))
-        else {
-            break;
-        };
-        cycle_cells += 1;
-        state[c].fetch_or(QUEUED, Relaxed);
-        order.push(c as u32);
-    }
-    let order = Order {
-        back_to_front: order,
-        cycle_cells,
-    };
-    (order, ends)
-}
-
-/// Levels with fewer cells than this are released on the calling thread: below it the handing
-/// out of work costs more than it saves.
-const PARALLEL_LEVEL: usize = 1024;
-
-/// Cells of a level per parallel task.
-const LEVEL_CHUNK: usize = 256;
-
-/// Places cell `c`: each neighbour in front of it loses one waiting neighbour behind it, and
-/// one that has none left (and was not forced out of a cycle) is pushed to `next`. With
-/// `SHARED` (other threads place other cells of the level) by exactly one caller, as the
-/// count's last decrement and the queued bit are one atomic update; without, the caller is
-/// alone and plain loads and stores do.
-#[inline]
-fn release<const SHARED: bool>(c: u32, nbs: &[[u32; 4]], state: &[AtomicU8], next: &mut Vec<u32>) {
-    let placed = |s: u8| {
-        let s = if behind_count(s) > 0 { s - BEHIND } else { s };
-        if behind_count(s) == 0 { s | QUEUED } else { s }
-    };
-    let front = state[c as usize].load(Relaxed) & 0xF;
-    for f in 0..4 {
-        if front & (1 << f) == 0 {
-            continue;
-        }
-        let m = nbs[c as usize][f];
-        let cell = &state[m as usize];
-        let old = if SHARED {
-            match cell.fetch_update(Relaxed, Relaxed, |s| Some(placed(s))) {
-                Ok(old) | Err(old) => old,
-            }
-        } else {
-            let old = cell.load(Relaxed);
-            cell.store(placed(old), Relaxed);
-            old
-        };
-        if old & QUEUED == 0 && behind_count(old) <= 1 {
-            next.push(m);
-        }
-    }
+    let cells = Vec::with_capacity(input.mesh.tet_count());
+    topological(input, Fifo { cells, next: 0 })
 }
 
 fn mpvonc(input: &SortInput) -> Order {
     topological(input, BinaryHeap::with_capacity(1024))
-}
-
-/// Serial MPVO (a FIFO queue), the reference of the tests.
-#[cfg(test)]
-fn mpvo_serial(input: &SortInput) -> Order {
-    let cells = Vec::with_capacity(input.mesh.tet_count());
-    topological(input, Fifo { cells, next: 0 })
 }
 
 #[cfg(test)]
@@ -431,96 +298,6 @@ mod tests {
                 let o = s(&input);
                 assert_eq!(o.cycle_cells, 0);
                 assert_valid(&input, &o.back_to_front);
-            }
-        }
-    }
-
-    /// A box seen from a view whose screen positions are scrambled: the relation is then no
-    /// projection, full of cycles, and exercises every path of the level-parallel sort.
-    fn scrambled(mesh: &TetMesh, seed: u64) -> (Vec<[f64; 3]>, Vec<[f64; 2]>) {
-        let mut rng = crate::mesh::generate::SplitMix64(seed);
-        let eye: Vec<[f64; 3]> = mesh
-            .nodes()
-            .iter()
-            .map(|p| [p[0], p[1], p[2] - 3.0])
-            .collect();
-        let screen = eye
-            .iter()
-            .map(|p| [p[0] + 0.1 * rng.next_f64(), -p[1] + 0.1 * rng.next_f64()])
-            .collect();
-        (eye, screen)
-    }
-
-    /// The level-parallel order is a valid MPVO order; released on one thread it is the serial
-    /// FIFO sort's order exactly; released in parallel, in pools of 1 to 3 threads, its levels
-    /// hold the same cells (only the order inside a level may change, which no pixel sees); and
-    /// it breaks the same visibility cycles as the serial sort (the cells placed before each
-    /// break are the same set, whatever order a Kahn sort takes them in).
-    #[test]
-    fn parallel_mpvo_is_valid_and_independent_of_threads() {
-        let (nodes, tets) = kuhn_box([9, 8, 7], [1.0; 3], 0.12, 3);
-        let mesh = TetMesh::new(nodes, tets).unwrap();
-        let pools = [1, 2, 3].map(|t| {
-            rayon::ThreadPoolBuilder::new()
-                .num_threads(t)
-                .build()
-                .unwrap()
-        });
-        for (k, scramble) in [(0u64, false), (1, false), (2, true), (3, true)] {
-            let r =
-                crate::scene::Affine::rotation([1.0, 0.4 * k as f64, 0.3], 17.0 + 40.0 * k as f64)
-                    .unwrap();
-            let (eye_nodes, screen) = if scramble {
-                scrambled(&mesh, k)
-            } else {
-                let eye: Vec<[f64; 3]> = mesh
-                    .nodes()
-                    .iter()
-                    .map(|&p| {
-                        let q = r.apply([p[0] - 0.5, p[1] - 0.5, p[2] - 0.5]);
-                        [q[0], q[1], q[2] - 4.0]
-                    })
-                    .collect();
-                let screen = eye.iter().map(|p| [p[0], -p[1]]).collect();
-                (eye, screen)
-            };
-            let input = SortInput {
-                mesh: &mesh,
-                eye_nodes: &eye_nodes,
-                screen: &screen,
-                perspective: false,
-                mirrored: false,
-            };
-            let serial = mpvo_serial(&input);
-            let (reference, ends) = levels(&input, usize::MAX);
-            assert_eq!(reference, serial, "one thread: the FIFO sort's order");
-            if scramble {
-                assert!(serial.cycle_cells > 0, "the scrambled view has cycles");
-            } else {
-                assert_eq!(serial.cycle_cells, 0);
-                assert_valid(&input, &reference.back_to_front);
-            }
-            let level_sets = |order: &[u32], ends: &[usize]| {
-                let mut start = 0;
-                ends.iter()
-                    .map(|&end| {
-                        let mut level = order[start..end].to_vec();
-                        level.sort_unstable();
-                        start = end;
-                        level
-                    })
-                    .collect::<Vec<_>>()
-            };
-            let expected = level_sets(&reference.back_to_front, &ends);
-            for pool in &pools {
-                for parallel_level in [1, 64, usize::MAX] {
-                    let (o, e) = pool.install(|| levels(&input, parallel_level));
-                    assert_eq!(o.cycle_cells, reference.cycle_cells);
-                    assert_eq!(level_sets(&o.back_to_front, &e), expected);
-                    if !scramble {
-                        assert_valid(&input, &o.back_to_front);
-                    }
-                }
             }
         }
     }

@@ -168,7 +168,7 @@ pub struct AsciiBlock {
     pub values: Values,
     pub rows: RowLines,
     /// The `@marker` line that ended the block (its text and line), if any.
-    pub next_marker: BlockEnd,
+    pub next_marker: Option<(Vec<u8>, usize)>,
 }
 
 /// Identifies a block in messages.
@@ -234,19 +234,7 @@ pub fn read_block<R: BufRead>(
     })
 }
 
-/// The `@marker` line that ended a block (its text and line), if any.
-type BlockEnd = Option<(Vec<u8>, usize)>;
-
-/// Bytes of rows gathered before they are parsed, in parallel.
-const BATCH_BYTES: usize = 1 << 22;
-
-/// Rows per parallel task.
-const ROWS_PER_TASK: usize = 1 << 12;
-
-/// The rows of a block: lines are read and told apart (rows, blank and comment lines, the next
-/// marker) in file order, a batch at a time; the numbers of a batch's rows are parsed in
-/// parallel. The error returned is the one a row-by-row reading meets first.
-fn rows_into<R: BufRead, T: AsciiNumber + Send>(
+fn rows_into<R: BufRead, T: AsciiNumber>(
     input: &mut Input<R>,
     info: &BlockInfo,
     ty: DataType,
@@ -254,119 +242,73 @@ fn rows_into<R: BufRead, T: AsciiNumber + Send>(
     out: &mut Vec<T>,
     rows: &mut RowLines,
     n_rows: &mut usize,
-) -> Result<BlockEnd, ParseError> {
+) -> Result<Option<(Vec<u8>, usize)>, ParseError> {
+    let numbers = ty.numbers();
     let io_err =
         |e: io::Error| ParseError::new(info.file, info.marker_line, format!("read error: {e}"));
-    let mut text: Vec<u8> = Vec::new();
-    // Per row of the batch: its line and where its content ends in `text`.
-    let mut batch: Vec<(usize, usize)> = Vec::new();
     loop {
-        text.clear();
-        batch.clear();
-        // Where the batch stops: the next marker, the end of the file, a row too many, or
-        // a full batch.
-        let mut stop: Option<Result<BlockEnd, ParseError>> = None;
-        while text.len() < BATCH_BYTES {
-            let Some((line_no, line)) = input.next_line().map_err(io_err)? else {
-                stop = Some(Ok(None));
-                break;
-            };
-            if let Some(m) = marker_line(line) {
-                stop = Some(Ok(Some((m.to_vec(), line_no))));
-                break;
-            }
-            if is_blank_or_comment(line) {
+        let Some((line_no, line)) = input.next_line().map_err(io_err)? else {
+            return Ok(None);
+        };
+        if let Some(m) = marker_line(line) {
+            return Ok(Some((m.to_vec(), line_no)));
+        }
+        if is_blank_or_comment(line) {
+            continue;
+        }
+        if *n_rows == count {
+            return Err(ParseError::new(
+                info.file,
+                info.marker_line,
+                format!(
+                    "block @{} ({}) has more than {count} rows ({} = {count}); the extra row is on line {line_no}",
+                    info.marker, info.what, info.count_keyword
+                ),
+            ));
+        }
+        let content = match line.iter().position(|&b| b == b'#') {
+            Some(i) => &line[..i],
+            None => line,
+        };
+        let mut found = 0usize;
+        for tok in content
+            .split(|b| b.is_ascii_whitespace())
+            .filter(|t| !t.is_empty())
+        {
+            found += 1;
+            if found > numbers {
                 continue;
             }
-            if *n_rows + batch.len() == count {
-                stop = Some(Err(ParseError::new(
+            let v = T::parse(tok).map_err(|msg| {
+                ParseError::new(
                     info.file,
-                    info.marker_line,
+                    line_no,
                     format!(
-                        "block @{} ({}) has more than {count} rows ({} = {count}); the extra row is on line {line_no}",
-                        info.marker, info.what, info.count_keyword
+                        "{} {} of block @{}: {msg}",
+                        element_noun(info.what),
+                        *n_rows + 1,
+                        info.marker
                     ),
-                )));
-                break;
-            }
-            let content = match line.iter().position(|&b| b == b'#') {
-                Some(i) => &line[..i],
-                None => line,
-            };
-            text.extend_from_slice(content);
-            batch.push((line_no, text.len()));
+                )
+            })?;
+            out.push(v);
         }
-        parse_rows(&text, &batch, info, ty, *n_rows, out)?;
-        for &(line_no, _) in &batch {
-            rows.push(*n_rows, line_no);
-            *n_rows += 1;
+        if found != numbers {
+            return Err(ParseError::new(
+                info.file,
+                line_no,
+                format!(
+                    "{} {} of block @{}: expected {numbers} number{} ({ty}), found {found}",
+                    element_noun(info.what),
+                    *n_rows + 1,
+                    info.marker,
+                    if numbers == 1 { "" } else { "s" },
+                ),
+            ));
         }
-        if let Some(stop) = stop {
-            return stop;
-        }
+        rows.push(*n_rows, line_no);
+        *n_rows += 1;
     }
-}
-
-/// Parses the rows of a batch (`first_row` is the first's number in the block) onto `out`, in
-/// parallel; the first failing row's error.
-fn parse_rows<T: AsciiNumber + Send>(
-    text: &[u8],
-    batch: &[(usize, usize)],
-    info: &BlockInfo,
-    ty: DataType,
-    first_row: usize,
-    out: &mut Vec<T>,
-) -> Result<(), ParseError> {
-    use rayon::prelude::*;
-    let numbers = ty.numbers();
-    let row_error = |k: usize, msg: String| {
-        ParseError::new(
-            info.file,
-            batch[k].0,
-            format!(
-                "{} {} of block @{}: {msg}",
-                element_noun(info.what),
-                first_row + k + 1,
-                info.marker
-            ),
-        )
-    };
-    let parsed: Vec<Result<Vec<T>, ParseError>> = (0..batch.len())
-        .into_par_iter()
-        .step_by(ROWS_PER_TASK)
-        .map(|first| {
-            let last = (first + ROWS_PER_TASK).min(batch.len());
-            let mut values = Vec::with_capacity((last - first) * numbers);
-            for k in first..last {
-                let start = if k == 0 { 0 } else { batch[k - 1].1 };
-                let mut found = 0usize;
-                for tok in text[start..batch[k].1]
-                    .split(|b| b.is_ascii_whitespace())
-                    .filter(|t| !t.is_empty())
-                {
-                    found += 1;
-                    if found > numbers {
-                        continue;
-                    }
-                    values.push(T::parse(tok).map_err(|msg| row_error(k, msg))?);
-                }
-                if found != numbers {
-                    return Err(row_error(
-                        k,
-                        format!(
-                            "expected {numbers} number{} ({ty}), found {found}",
-                            if numbers == 1 { "" } else { "s" },
-                        ),
-                    ));
-                }
-            }
-            Ok(values)
-        })
-        .collect();
-    for values in parsed {
-        out.extend_from_slice(&values?);
-    }
-    Ok(())
 }
 
 /// `Tetrahedra by Nodes` → `tetrahedron`, for row messages.

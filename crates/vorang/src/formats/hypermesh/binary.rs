@@ -4,15 +4,13 @@
 
 use std::io::{self, BufRead, Write};
 
-use rayon::prelude::*;
-
 use super::ascii::BlockInfo;
 use super::input::Input;
 use crate::data::{DataType, Values};
 use crate::error::ParseError;
 
 /// Bytes converted per step; bounds the scratch buffer whatever the block size.
-const CHUNK: usize = 1 << 22;
+const CHUNK: usize = 1 << 20;
 
 /// Reads one block of `count` elements of type `ty`.
 pub fn read_block<R: BufRead>(
@@ -77,61 +75,47 @@ pub fn read_block<R: BufRead>(
 }
 
 /// Appends the big-endian numbers in `bytes` to `out`; `Err(i)` if number `i` of this chunk is
-/// not finite (or, for doubles, beyond [`super::MAX_MAGNITUDE`]). In parallel: the chunks are
-/// large enough to share out, and decoding is what a BINARY file's loading spends its time on
-/// besides building the mesh.
+/// not finite (or, for doubles, beyond [`super::MAX_MAGNITUDE`]).
 fn decode(bytes: &[u8], out: &mut Values) -> Result<(), usize> {
     match out {
         Values::U8(v) => v.extend_from_slice(bytes),
-        Values::I16(v) => decode_into(bytes, v, i16::from_be_bytes),
-        Values::I32(v) => decode_into(bytes, v, i32::from_be_bytes),
+        Values::I16(v) => v.extend(
+            bytes
+                .chunks_exact(2)
+                .map(|c| i16::from_be_bytes([c[0], c[1]])),
+        ),
+        Values::I32(v) => v.extend(
+            bytes
+                .chunks_exact(4)
+                .map(|c| i32::from_be_bytes([c[0], c[1], c[2], c[3]])),
+        ),
         Values::F32(v) => {
             let start = v.len();
-            decode_into(bytes, v, f32::from_be_bytes);
-            if let Some(i) = v[start..]
-                .par_iter()
-                .with_min_len(NUMBERS_PER_TASK)
-                .position_first(|x| !x.is_finite())
-            {
+            v.extend(
+                bytes
+                    .chunks_exact(4)
+                    .map(|c| f32::from_be_bytes([c[0], c[1], c[2], c[3]])),
+            );
+            if let Some(i) = v[start..].iter().position(|x| !x.is_finite()) {
                 return Err(i);
             }
         }
         Values::F64(v) => {
             let start = v.len();
-            decode_into(bytes, v, f64::from_be_bytes);
+            v.extend(
+                bytes
+                    .chunks_exact(8)
+                    .map(|c| f64::from_be_bytes([c[0], c[1], c[2], c[3], c[4], c[5], c[6], c[7]])),
+            );
             if let Some(i) = v[start..]
-                .par_iter()
-                .with_min_len(NUMBERS_PER_TASK)
-                .position_first(|x| !x.is_finite() || x.abs() > super::MAX_MAGNITUDE)
+                .iter()
+                .position(|x| !x.is_finite() || x.abs() > super::MAX_MAGNITUDE)
             {
                 return Err(i);
             }
         }
     }
     Ok(())
-}
-
-/// Numbers per parallel task of [`decode`].
-const NUMBERS_PER_TASK: usize = 1 << 15;
-
-/// Appends the numbers of `S` bytes each in `bytes` to `v`, converted by `from_be`.
-fn decode_into<T: Copy + Default + Send, const S: usize>(
-    bytes: &[u8],
-    v: &mut Vec<T>,
-    from_be: fn([u8; S]) -> T,
-) {
-    let start = v.len();
-    v.resize(start + bytes.len() / S, T::default());
-    v[start..]
-        .par_chunks_mut(NUMBERS_PER_TASK)
-        .zip(bytes.par_chunks(NUMBERS_PER_TASK * S))
-        .for_each(|(out, bytes)| {
-            for (x, b) in out.iter_mut().zip(bytes.chunks_exact(S)) {
-                let mut word = [0u8; S];
-                word.copy_from_slice(b);
-                *x = from_be(word);
-            }
-        });
 }
 
 /// Writes all values big-endian.

@@ -8,8 +8,6 @@
 use super::super::ascii::{RowLines, element_noun};
 use super::super::header::{BlockDecl, Header, Target, TetCoding, TriangleCoding};
 use super::{Block, Geometry, NONE, edge_index, edges_of_cells};
-use rayon::prelude::*;
-
 use crate::data::Values;
 use crate::error::{ParseError, Warning};
 use crate::mesh::{EDGE_NODES, TetMesh};
@@ -59,66 +57,48 @@ impl Located<'_> {
         allow_zero: bool,
     ) -> Result<Vec<[u32; N]>, ParseError> {
         let v = &self.values;
-        // In parallel, in chunks of rows that report in order: the error is the first row's,
-        // as a single pass would find it.
-        let mut out = vec![[0u32; N]; self.elements()];
-        let failed = out
-            .par_chunks_mut(ROWS_PER_TASK)
-            .enumerate()
-            .map(|(chunk, rows)| {
-                for (i, row) in rows.iter_mut().enumerate() {
-                    let e = chunk * ROWS_PER_TASK + i;
-                    for (k, slot) in row.iter_mut().enumerate() {
-                        let x = v.get_int(e * N + k).unwrap_or(-1);
-                        *slot = if x == 0 && allow_zero {
-                            NONE
-                        } else if x >= 1 && x as u64 <= max as u64 {
-                            (x - 1) as u32
-                        } else if x == 0 {
-                            return Err((
-                                e,
-                                format!(
-                                    "index 0 is not a valid {of} (indices are 1-based: 1…{max})"
-                                ),
-                            ));
-                        } else {
-                            return Err((e, format!("{of} index {x} is out of range 1…{max}")));
-                        };
-                    }
-                }
-                Ok(())
-            })
-            .collect::<Vec<_>>()
-            .into_iter()
-            .find_map(Result::err);
-        if let Some((e, msg)) = failed {
-            return Err(self.row_error(e, msg));
+        let mut out = Vec::with_capacity(self.elements());
+        for e in 0..self.elements() {
+            let mut row = [0u32; N];
+            for (k, slot) in row.iter_mut().enumerate() {
+                let x = v.get_int(e * N + k).unwrap_or(-1);
+                *slot = if x == 0 && allow_zero {
+                    NONE
+                } else if x >= 1 && x as u64 <= max as u64 {
+                    (x - 1) as u32
+                } else if x == 0 {
+                    return Err(self.row_error(
+                        e,
+                        format!("index 0 is not a valid {of} (indices are 1-based: 1…{max})"),
+                    ));
+                } else {
+                    return Err(
+                        self.row_error(e, format!("{of} index {x} is out of range 1…{max}"))
+                    );
+                };
+            }
+            out.push(row);
         }
         self.release();
         Ok(out)
     }
 }
 
-/// Rows per parallel task when converting and checking geometry rows.
-const ROWS_PER_TASK: usize = 1 << 14;
-
 fn distinct<const N: usize>(loc: &Located, rows: &[[u32; N]], of: &str) -> Result<(), ParseError> {
-    let twice = |r: &[u32; N]| (1..N).find(|&k| r[..k].contains(&r[k]));
-    let Some(e) = rows
-        .par_iter()
-        .with_min_len(ROWS_PER_TASK)
-        .position_first(|r| twice(r).is_some())
-    else {
-        return Ok(());
-    };
-    let k = twice(&rows[e]).unwrap_or(0);
-    Err(loc.row_error(
-        e,
-        format!(
-            "{of} {} appears twice; expected {N} distinct {of}s",
-            rows[e][k] + 1
-        ),
-    ))
+    for (e, r) in rows.iter().enumerate() {
+        for k in 1..N {
+            if r[..k].contains(&r[k]) {
+                return Err(loc.row_error(
+                    e,
+                    format!(
+                        "{of} {} appears twice; expected {N} distinct {of}s",
+                        r[k] + 1
+                    ),
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn sorted<const N: usize>(mut a: [u32; N]) -> [u32; N] {
