@@ -174,3 +174,51 @@ view
         "the GPU's refined frame is the CPU's image"
     );
 }
+
+/// Maps with more knots than the GPU backend renders are refused with a message, never drawn
+/// wrong (crates/vorang/src/gpu/frame.rs, MAX_KNOTS); as many as it renders are drawn.
+#[cfg(feature = "gpu")]
+#[test]
+fn maps_with_too_many_knots_are_refused_on_the_gpu() {
+    if Session::new().set_backend("gpu").is_err() {
+        assert!(
+            std::env::var("VORANG_GPU_TESTS").as_deref() != Ok("required"),
+            "VORANG_GPU_TESTS=required but no GPU"
+        );
+        eprintln!("no GPU adapter: skipped");
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let volume = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/inclusion/inclusion.vtu");
+    for (knots, refused) in [(64, false), (65, true)] {
+        let mut cmap = String::from("# VoRANG Colormap 1.0\nSIMPLE_EMITTER @1\n@1\n");
+        let mut amap = String::from("# VoRANG Alphamap 1.0\nSIMPLE_ABSORBER @1\n@1\n");
+        for i in 0..knots {
+            let t = i as f64 / (knots - 1) as f64;
+            let s = 0.1 + 0.5 * t;
+            cmap += &format!("{t} {} 0.5 {s}\n", 1.0 - t);
+            amap += &format!("{} {s}\n", 0.5 + 3.0 * t * t);
+        }
+        std::fs::write(dir.path().join("m.cmap"), cmap).unwrap();
+        std::fs::write(dir.path().join("m.amap"), amap).unwrap();
+        let script = format!(
+            "imagesize 32 24\nvolume {}\ncolormap m.cmap\nalphamap m.amap\nlinedraw off\nview_all\nmethod exact linear 0 1\nbackend gpu\noutput out.pfm\nrender_btf\n",
+            volume.display()
+        );
+        std::fs::write(dir.path().join("s.tcl"), script).unwrap();
+        let out = std::process::Command::new(env!("CARGO_BIN_EXE_vorang"))
+            .arg("s.tcl")
+            .current_dir(dir.path())
+            .env("XDG_RUNTIME_DIR", std::env::temp_dir())
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&out.stderr).to_string()
+            + &String::from_utf8_lossy(&out.stdout);
+        if refused {
+            assert!(!out.status.success(), "{knots} knots: {text}");
+            assert!(text.contains("at most 64"), "{knots} knots: {text}");
+        } else {
+            assert!(out.status.success(), "{knots} knots: {text}");
+        }
+    }
+}
