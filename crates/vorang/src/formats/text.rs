@@ -157,3 +157,24 @@ pub fn parse_float(t: &str) -> Option<f64> {
         }
     }
 }
+
+/// An XML element's attributes as `(name, value)`, values unescaped (the raw text where an
+/// entity is malformed), for the XML readers (`.vtu`, collections, XDMF).
+pub fn xml_attributes(e: &quick_xml::events::BytesStart) -> Vec<(String, String)> {
+    e.attributes()
+        .flatten()
+        .map(|a| {
+            (
+                String::from_utf8_lossy(a.key.as_ref()).into_owned(),
+                xml_value(&a),
+            )
+        })
+        .collect()
+}
+
+/// One attribute's value, unescaped (the raw text where an entity is malformed).
+pub fn xml_value(a: &quick_xml::events::attributes::Attribute) -> String {
+    a.unescape_value()
+        .map(|v| v.into_owned())
+        .unwrap_or_else(|_| String::from_utf8_lossy(&a.value).into_owned())
+}

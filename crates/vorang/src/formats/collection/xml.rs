@@ -70,18 +70,7 @@ pub(super) fn elements(bytes: &[u8], name: &str) -> Result<Vec<Element>, ParseEr
 }
 
 fn element(e: &BytesStart, line: usize, depth: usize) -> Element {
-    let attributes = e
-        .attributes()
-        .flatten()
-        .map(|a| {
-            let key = String::from_utf8_lossy(a.key.as_ref()).into_owned();
-            let value = a
-                .unescape_value()
-                .map(|v| v.into_owned())
-                .unwrap_or_else(|_| String::from_utf8_lossy(&a.value).into_owned());
-            (key, value)
-        })
-        .collect();
+    let attributes = crate::formats::text::xml_attributes(e);
     Element {
         name: String::from_utf8_lossy(e.name().as_ref()).into_owned(),
         attributes,

@@ -154,11 +154,7 @@ fn attr(e: &BytesStart, key: &[u8]) -> Option<String> {
     e.attributes()
         .flatten()
         .find(|a| a.key.as_ref() == key)
-        .map(|a| {
-            a.unescape_value()
-                .map(|v| v.into_owned())
-                .unwrap_or_else(|_| String::from_utf8_lossy(&a.value).into_owned())
-        })
+        .map(|a| crate::formats::text::xml_value(&a))
 }
 
 fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
