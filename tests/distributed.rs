@@ -6,9 +6,9 @@
 //! in another order of the same products). Partitions: contiguous, scattered cell by cell, one
 //! empty piece, more ranks than pieces; views: default, rotated, mirrored, axis-aligned,
 //! perspective from outside and from inside the volume. Also: VTK's own pieces (ghost layers,
-//! `GlobalNodeIds`) on 1 … 5 ranks, `view_all` and time steps on ranks, and what ranks refuse
-//! (`test`, which draws each face once per ray by remembering the previous cell of the pixel,
-//! and an opaque `render_ftb`: docs/distributed.md).
+//! `GlobalNodeIds`) on 1 … 5 ranks, `view_all` and time steps on ranks, the method `test`
+//! (each face drawn once per ray, also between ranks) and `render_ftb` where pixels turn
+//! opaque (docs/distributed.md).
 
 use std::sync::Arc;
 use std::sync::atomic::AtomicBool;
@@ -488,47 +488,100 @@ fn time_steps_of_pvtu_grids_on_ranks() {
     }
 }
 
-/// What ranks cannot render as one process does is refused: the method `test`, and
-/// `render_ftb` where a pixel turns opaque (one process stops compositing there).
+/// The method `test` on ranks: each face drawn once per ray, also the faces between two
+/// ranks' cells, which both ranks drew (the owner removes one: docs/distributed.md). Every
+/// partition and view, convex and non-convex, both orders, opaque and half-transparent faces.
 #[test]
-fn ranks_refuse_test_and_an_opaque_render_ftb() {
+fn virtual_ranks_give_the_single_render_with_test() {
+    let convex = vorang::volume::jittered_box(900, 0.1, 3);
+    let holes = vorang::volume::jittered_box_with_holes(900, 0.1, 13, 0.25);
+    // Transparencies stay above front-to-back's early termination, except with opaque faces
+    // (where stopping changes nothing).
+    for (vol, opacity) in [(&convex, "0.3"), (&holes, "0.2"), (&convex, "1")] {
+        for order in [Order::BackToFront, Order::FrontToBack] {
+            let s = settings(&format!("test {opacity}"), LineDraw::Off, order);
+            let n = check(vol, &views(), &s, &NodeKey::Numbers);
+            eprintln!("test {opacity}, {order:?}: {n} channels differ by one ulp");
+        }
+    }
+}
+
+/// `test`, the default method, on VTK's pieces read by 1 … 5 ranks of a session (a regular
+/// grid: rays along faces and through edges).
+#[test]
+fn test_method_on_vtk_pieces() {
+    let test = Method::parse(&["test", "0.3"]).unwrap();
+    for file in ["mpi/box_g3.pvtu", "mpi/box_p5.pvtu"] {
+        let path = data(file);
+        let mut one = session(&path, None);
+        one.set_method(test);
+        for order in [Order::BackToFront, Order::FrontToBack] {
+            let whole = image(&mut one, order).unwrap();
+            assert!(whole.max_channel() > 0.01);
+            for ranks in 1..=5 {
+                let mut s = session(&path, Some(ranks));
+                s.set_method(test);
+                let fb = image(&mut s, order).unwrap();
+                let (differ, most) = ulps(&whole, &fb);
+                assert!(
+                    most <= 1,
+                    "{file}, {ranks} ranks, {order:?}: {differ} channels by up to {most} ulps"
+                );
+            }
+        }
+    }
+}
+
+/// `render_ftb` where pixels turn opaque: one process stops compositing a convex mesh there,
+/// the ranks composite every cell — the image of `render_btf`, within the early termination's
+/// threshold of one process's `render_ftb`, and a note says how many pixels.
+#[test]
+fn an_opaque_render_ftb_on_ranks_composites_every_cell() {
+    use vorang::session::Hooks;
     let path = data("mpi/box_p5.pvtu");
-    let mut s = session(&path, Some(2));
-    let test = Method::parse(&["test", "0.5"]).unwrap();
-    let e = s.check_method(&test).unwrap_err();
-    assert!(e.contains("the method test is not available"), "{e}");
-    s.set_method(test);
-    let e = image(&mut s, Order::BackToFront).unwrap_err();
-    assert!(e.contains("the method test is not available"), "{e}");
-    // One rank holds every cell: `test` is one process's image.
-    let (mut s, mut one) = (session(&path, Some(1)), session(&path, None));
-    s.check_method(&test).unwrap();
-    s.set_method(test);
-    one.set_method(test);
-    for order in [Order::BackToFront, Order::FrontToBack] {
-        let (a, b) = (
-            image(&mut s, order).unwrap(),
-            image(&mut one, order).unwrap(),
-        );
-        assert!(b.max_channel() > 0.01);
-        let (differ, most) = ulps(&a, &b);
+    let a = "# VoRANG Alphamap 1.0\nSIMPLE_ABSORBER @1\n@1\n400 0\n400 5\n";
+    let dense = parse_map::<dyn AlphaShading>(a.as_bytes(), "a.map")
+        .unwrap()
+        .0;
+    let mut one = session(&path, None);
+    one.set_alphamap(dense.clone()).unwrap();
+    let btf = image(&mut one, Order::BackToFront).unwrap();
+    let ftb = image(&mut one, Order::FrontToBack).unwrap();
+    for ranks in [2, 3] {
+        let mut s = session(&path, Some(ranks));
+        s.set_alphamap(dense.clone()).unwrap();
+        let cancel = AtomicBool::new(false);
+        let hooks = Hooks {
+            progress: None,
+            tile: None,
+            cancel: &cancel,
+        };
+        let img = s.render_image(Order::FrontToBack, &hooks).unwrap();
+        assert!(img.stats.opaque_pixels > 100, "{}", img.stats.opaque_pixels);
+        let note = img
+            .notices
+            .iter()
+            .map(|n| format!("{n:?}"))
+            .find(|n| n.contains("turned opaque"));
+        assert!(note.is_some(), "{:?}", img.notices);
+        let fb = img.framebuffer;
+        let (differ, most) = ulps(&btf, &fb);
         assert!(
             most <= 1,
-            "test on one rank: {differ} channels by up to {most} ulps"
+            "{ranks} ranks against render_btf: {differ} channels by up to {most} ulps"
+        );
+        let far = fb
+            .pixels
+            .iter()
+            .zip(&ftb.pixels)
+            .flat_map(|(p, q)| (0..4).map(move |k| (p[k] - q[k]).abs()))
+            .fold(0.0f32, f32::max);
+        assert!(
+            far < 2e-6,
+            "{ranks} ranks against one process's render_ftb: {far}"
         );
     }
-    let a = "# VoRANG Alphamap 1.0\nSIMPLE_ABSORBER @1\n@1\n400 0\n400 5\n";
-    let mut s = session(&path, Some(2));
-    s.set_alphamap(
-        parse_map::<dyn AlphaShading>(a.as_bytes(), "a.map")
-            .unwrap()
-            .0,
-    )
-    .unwrap();
-    image(&mut s, Order::BackToFront).unwrap();
-    let e = image(&mut s, Order::FrontToBack).unwrap_err();
-    assert!(e.contains("is opaque"), "{e}");
-    // Not opaque: render_ftb on ranks is one process's image.
+    // Not opaque: render_ftb on ranks is one process's image, and no note.
     let mut s = session(&path, Some(3));
     let mut one = session(&path, None);
     let (a, b) = (

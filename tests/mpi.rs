@@ -10,8 +10,9 @@
 //! default (axis-aligned), rotated and framed by `view_all`, mirrored (`render_ftb`), the eye
 //! inside the volume, perspective from outside framed by `view_all`. A missing piece, a
 //! truncated piece, pieces with other arrays, a rank whose script fails before, while or after
-//! the others render, a map that does not fit, and what ranks refuse stop every rank with that
-//! message, printed once, and a non-zero exit — never a hang (every run is under a time limit).
+//! the others render and a map that does not fit stop every rank with that message, printed
+//! once, and a non-zero exit — never a hang (every run is under a time limit). The default
+//! method `test` and an opaque `render_ftb` render on ranks.
 
 #![cfg(feature = "mpi")]
 
@@ -366,44 +367,63 @@ fn pieces_with_other_arrays_stop_every_rank() {
     }
 }
 
-/// What ranks cannot render as one process does is refused on every rank, with the reason:
-/// the method `test` on more than one rank, and `render_ftb` where a pixel turns opaque (one
-/// process stops there).
+/// The default method (`test`: each face once per ray, also the faces between two ranks'
+/// cells) and `render_ftb` where pixels turn opaque (the ranks composite every cell, with a
+/// note) on 1 … 3 ranks: the images of `--virtual-ranks` bit for bit, and of one process
+/// (`render_btf` for the opaque one) within one `f32` ulp.
 #[test]
-fn what_ranks_cannot_render_is_refused() {
+fn the_default_method_and_an_opaque_render_ftb_on_ranks() {
     let dir = tempfile::tempdir().unwrap();
     let d = dir.path();
     inputs(d);
-    fails_with(
-        2,
-        "volume box.hm\nmethod test 0.5\n",
-        "the method test is not available",
-        d,
-    );
-    fails_with(
-        3,
-        "volume box.hm\nimagesize 32 24\noutput f.pfm\nrender_btf\n",
-        "the method test is not available",
-        d,
-    );
-    // One rank holds every cell: the default `test` renders as in one process.
-    std::fs::write(
-        d.join("one.tcl"),
-        "volume box.hm\nimagesize 32 24\noutput one.pfm\nrender_btf\n",
-    )
-    .unwrap();
-    let out = mpirun(1, "one.tcl", d);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
     std::fs::write(
         d.join("dense.map"),
         "# VoRANG Alphamap 1.0\nSIMPLE_ABSORBER @1\n@1\n400 0\n400 1\n",
     )
     .unwrap();
-    let opaque = "volume box.hm\nimagesize 32 24\ncolormap c.map\nalphamap dense.map\n\
-                  method exact linear 0 1\noutput f.pfm\nrender_btf\nrender_ftb\n";
-    fails_with(2, opaque, "is opaque", d);
+    let script = |out: &str| {
+        format!(
+            "volume box.hm\nimagesize 48 36\nview_all\noutput {out}t.pfm\nrender_btf\n\
+             colormap c.map\nalphamap dense.map\nmethod exact linear 0 1\n\
+             output {out}o.pfm\nrender_ftb\n"
+        )
+    };
+    let one = script("p").replace("render_ftb", "render_btf");
+    std::fs::write(d.join("p.tcl"), one).unwrap();
+    let mut cmd = Command::new(BIN);
+    cmd.arg("p.tcl");
+    let out = run(cmd, d);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let whole = images(d, "p");
+    assert_eq!(whole.len(), 2);
+    for n in 1..=3 {
+        let (m, v) = (format!("m{n}_"), format!("v{n}_"));
+        std::fs::write(d.join("m.tcl"), script(&m)).unwrap();
+        std::fs::write(d.join("v.tcl"), script(&v)).unwrap();
+        let out = mpirun(n, "m.tcl", d);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "-np {n}: {err}");
+        let said = format!("{err}{}", String::from_utf8_lossy(&out.stdout));
+        assert_eq!(said.matches("turned opaque").count(), 1, "-np {n}: {said}");
+        let out = virtual_ranks(n, "v.tcl", d);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let (mi, vi) = (images(d, &m), images(d, &v));
+        assert_eq!(mi.len(), 2, "-np {n}");
+        for (((name, a), (_, b)), (_, w)) in mi.iter().zip(&vi).zip(&whole) {
+            assert!(a == b, "-np {n}, {name}: mpirun and virtual ranks differ");
+            let (k, u) = ulps(a, w);
+            assert!(
+                u <= 1,
+                "-np {n}, {name}: {k} channels differ from one process by {u} ulps"
+            );
+        }
+    }
 }

@@ -102,14 +102,15 @@ struct Settled {
     pixels: Vec<[f32; 4]>,
     overlap_pixels: u64,
     most: u64,
-    /// The first pixel one process may have stopped early at (`render_ftb`).
-    stops_early: Option<(usize, usize)>,
+    /// Pixels where one process may have stopped compositing front to back early
+    /// (`render_ftb`; [`Resolver::stops_early`]).
+    opaque_pixels: u64,
 }
 
 /// The owner's step: from the messages of every rank (by sending rank), this rank's tiles
 /// settled pixel by pixel ([`Resolver::pixel`]), as the message to rank 0: the pixels with
-/// an overlap and the most runs one pixel held (`u64` each), then the tiles' pixels (`f32`
-/// RGBA, tile by tile, row by row).
+/// an overlap, the most runs one pixel held and the pixels that turned opaque front to back
+/// (`u64` each), then the tiles' pixels (`f32` RGBA, tile by tile, row by row).
 pub fn settle(
     incoming: &[&[u8]],
     rank: usize,
@@ -146,18 +147,14 @@ pub fn settle(
         .zip(&parts)
         .map(|(&t, parts)| settle_tile(deep_rect(t, width, height), parts, resolver))
         .collect();
-    if let Some((x, y)) = settled.iter().find_map(|s| s.stops_early) {
-        return Err(Error::Invalid(format!(
-            "pixel ({x}, {y}) is opaque: one process stops compositing front to back where the transparency falls below {}, at a cell inside one rank's run of cells, which ranks cannot reproduce exactly; render_btf gives the image of all the cells (docs/distributed.md)",
-            crate::render::EARLY_TERMINATION
-        )));
-    }
     let overlap_pixels = settled.iter().map(|s| s.overlap_pixels).sum::<u64>();
     let most = settled.iter().map(|s| s.most).max().unwrap_or(0);
+    let opaque_pixels = settled.iter().map(|s| s.opaque_pixels).sum::<u64>();
     let n: usize = settled.iter().map(|s| s.pixels.len()).sum();
-    let mut out = Vec::with_capacity(16 + 16 * n);
+    let mut out = Vec::with_capacity(24 + 16 * n);
     out.extend_from_slice(&overlap_pixels.to_le_bytes());
     out.extend_from_slice(&most.to_le_bytes());
+    out.extend_from_slice(&opaque_pixels.to_le_bytes());
     for s in &settled {
         for p in &s.pixels {
             for v in p {
@@ -173,12 +170,12 @@ fn settle_tile(rect: crate::render::Rect, parts: &[Part], resolver: &Resolver) -
     let n = (rect.x1 - rect.x0) * (rect.y1 - rect.y0);
     // Per sender: where its runs for the next pixel start.
     let mut next = vec![0usize; parts.len()];
-    let mut runs: Vec<Stretch> = Vec::new();
+    let mut runs: Vec<(Stretch, u32)> = Vec::new();
     let mut out = Settled {
         pixels: Vec::with_capacity(n),
         overlap_pixels: 0,
         most: 0,
-        stops_early: None,
+        opaque_pixels: 0,
     };
     let w = rect.x1 - rect.x0;
     for slot in 0..n {
@@ -191,12 +188,13 @@ fn settle_tile(rect: crate::render::Rect, parts: &[Part], resolver: &Resolver) -
             let count = u32::from_le_bytes([c[0], c[1], c[2], c[3]]) as usize;
             for i in next[s]..next[s] + count {
                 let b = &part.runs[STRETCH_BYTES * i..STRETCH_BYTES * (i + 1)];
-                runs.push(Stretch {
+                let run = Stretch {
                     near: f64_at(b, 0),
                     far: f64_at(b, 1),
                     b: [f64_at(b, 2), f64_at(b, 3), f64_at(b, 4)],
                     theta: f64_at(b, 5),
-                });
+                };
+                runs.push((run, s as u32));
             }
             next[s] += count;
         }
@@ -204,28 +202,27 @@ fn settle_tile(rect: crate::render::Rect, parts: &[Part], resolver: &Resolver) -
         let (x, y) = (rect.x0 + slot % w, rect.y0 + slot / w);
         let (px, overlapped, early) = resolver.pixel(x, y, &mut runs);
         out.overlap_pixels += u64::from(overlapped);
-        if early && out.stops_early.is_none() {
-            out.stops_early = Some((x, y));
-        }
+        out.opaque_pixels += u64::from(early);
         out.pixels.push(px);
     }
     out
 }
 
-/// Rank 0's step: the image from every owner's message (by rank), and the pixels with an
-/// overlap and the most runs one pixel held.
+/// Rank 0's step: the image from every owner's message (by rank), the pixels with an
+/// overlap, the most runs one pixel held and the pixels that turned opaque front to back.
 pub fn assemble(
     gathered: &[Vec<u8>],
     (width, height): (usize, usize),
-) -> Result<(Framebuffer, u64, u64), Error> {
+) -> Result<(Framebuffer, [u64; 3]), Error> {
     let ranks = gathered.len();
     let (tx, ty) = deep_tiles(width, height);
     let mut fb = Framebuffer::try_new(width, height)?;
-    let (mut overlaps, mut most) = (0, 0);
+    let (mut overlaps, mut most, mut opaque) = (0, 0, 0);
     for (rank, bytes) in gathered.iter().enumerate() {
         let mut r = Reader { bytes, at: 0 };
         overlaps += r.u64()?;
         most = most.max(r.u64()?);
+        opaque += r.u64()?;
         for t in (0..tx * ty).filter(|&t| owner(t, ranks) == rank) {
             let rect = deep_rect(t, width, height);
             for y in rect.y0..rect.y1 {
@@ -237,5 +234,5 @@ pub fn assemble(
             }
         }
     }
-    Ok((fb, overlaps, most))
+    Ok((fb, [overlaps, most, opaque]))
 }

@@ -114,7 +114,7 @@ pub fn render_frame(
         })
         .collect();
     let sums: [u64; 5] = std::array::from_fn(|k| loads.iter().map(|l| l[k]).sum());
-    let (mut fb, overlap_pixels, most) = assemble(&gathered, size)?;
+    let (mut fb, [overlap_pixels, most, opaque_pixels]) = assemble(&gathered, size)?;
     fb.transparent = matches!(settings.background, Background::None);
     let (non_finite, first_non_finite) = non_finite(&fb);
     let mut timing = s.timing;
@@ -133,6 +133,7 @@ pub fn render_frame(
         first_non_finite,
         overlap_pixels: overlap_pixels as usize,
         overlap_cells: Vec::new(),
+        opaque_pixels: opaque_pixels as usize,
         timing,
         ranks: loads
             .iter()

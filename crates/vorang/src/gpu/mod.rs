@@ -401,6 +401,7 @@ impl Gpu {
             first_non_finite: non_finite.map(|i| (i % fb.width, i / fb.width)),
             overlap_pixels: 0,
             overlap_cells: Vec::new(),
+            opaque_pixels: 0,
             ranks: Vec::new(),
             // On the GPU `bin` is the upload of the cells (zero once they are there).
             timing: crate::render::Timing {

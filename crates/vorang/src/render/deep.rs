@@ -150,6 +150,7 @@ pub fn render_runs(
         first_non_finite: None,
         overlap_pixels: 0,
         overlap_cells: Vec::new(),
+        opaque_pixels: 0,
         ranks: Vec::new(),
         timing: Timing {
             setup,
@@ -187,12 +188,14 @@ pub fn non_finite(fb: &Framebuffer) -> (usize, Option<(usize, usize)>) {
     non_finite_pixels(fb)
 }
 
-/// What settles a pixel from its runs: the background and the grid lines of the frame.
+/// What settles a pixel from its runs: the background and the grid lines of the frame, and for
+/// `test` the surfaces two ranks both drew.
 pub struct Resolver {
     width: usize,
     order: super::Order,
     background: Backdrop,
     line_depth: Option<Vec<f64>>,
+    surfaces: Option<super::approx::Test>,
 }
 
 impl Resolver {
@@ -203,19 +206,41 @@ impl Resolver {
             order: settings.order,
             background: backdrop(settings)?,
             line_depth,
+            surfaces: match &settings.method {
+                Method::Test(t) => Some(*t),
+                _ => None,
+            },
         })
     }
 
-    /// Pixel (x, y) from the runs of every rank (concatenated in rank order; sorted here): as
-    /// one process settles its runs — sorted by depth, composited back to front over I0 (black
-    /// on a grid line), alpha `1 − T`. Also whether two runs overlap along the ray
-    /// (interpenetrating cells), and whether one process would have stopped compositing
-    /// before the last cell ([`Resolver::stops_early`]).
-    pub fn pixel(&self, x: usize, y: usize, stretches: &mut [Stretch]) -> ([f32; 4], bool, bool) {
-        stretches.sort_by(|a, b| by_depth((a.near, a.far), (b.near, b.far)));
+    /// Pixel (x, y) from the runs of every rank, each with the rank that drew it (concatenated
+    /// in rank order; sorted here): as one process settles its runs — sorted by depth,
+    /// composited back to front over I0 (black on a grid line), alpha `1 − T`. Also whether
+    /// two runs overlap along the ray (interpenetrating cells), and whether one process would
+    /// have stopped compositing before the last cell ([`Resolver::stops_early`]).
+    ///
+    /// With `test`, a run that starts where another rank's run ends (the face between their
+    /// cells, which both drew) loses its near surface ([`super::approx::Test`]): one process
+    /// draws each face once per ray.
+    pub fn pixel(
+        &self,
+        x: usize,
+        y: usize,
+        stretches: &mut [(Stretch, u32)],
+    ) -> ([f32; 4], bool, bool) {
+        stretches.sort_by(|(a, _), (b, _)| by_depth((a.near, a.far), (b.near, b.far)));
         let overlapped = stretches
             .windows(2)
-            .any(|w| overlap((w[0].near, w[0].far), (w[1].near, w[1].far)));
+            .any(|w| overlap((w[0].0.near, w[0].0.far), (w[1].0.near, w[1].0.far)));
+        if let Some(test) = &self.surfaces {
+            for k in 1..stretches.len() {
+                let ((a, ra), (b, rb)) = (stretches[k - 1], stretches[k]);
+                if ra != rb && abut(&a, &b) {
+                    (stretches[k].0.b, stretches[k].0.theta) =
+                        test.without_near_surface((b.b, b.theta));
+                }
+            }
+        }
         let at = y * self.width + x;
         let line = self.line_depth.as_ref().map_or(f64::INFINITY, |d| d[at]);
         let i0 = if line.is_finite() {
@@ -226,7 +251,7 @@ impl Resolver {
                 Backdrop::Image(px) => px[at],
             }
         };
-        let (rgb, t) = back_to_front(stretches.iter().map(|s| (s.b, s.theta)), i0);
+        let (rgb, t) = back_to_front(stretches.iter().map(|(s, _)| (s.b, s.theta)), i0);
         (
             pixel_out(rgb, t, line.is_finite()),
             overlapped,
@@ -237,9 +262,18 @@ impl Resolver {
     /// Whether a pixel of transparency `t` may have reached front-to-back compositing's early
     /// termination in one process (`render_ftb`, [`super::EARLY_TERMINATION`]): it stops at
     /// the cell where the transparency falls below the threshold, inside some rank's run,
-    /// which the runs cannot reproduce. A pixel whose transparency stays above it (with room
-    /// for rounding) was composited to the end, as here.
+    /// which the runs cannot reproduce; they composite every cell, as one process does for a
+    /// non-convex mesh. A pixel whose transparency stays above it (with room for rounding) was
+    /// composited to the end, as here.
     pub fn stops_early(&self, t: f64) -> bool {
         self.order == super::Order::FrontToBack && t < super::EARLY_TERMINATION * (1.0 + 1e-6)
     }
+}
+
+/// Whether run `b` (sorted after `a`) starts where `a` ends: at the same face, whose depth
+/// both ranks computed from the face alone, or — where the ray passes an edge or node the two
+/// share — within rounding ([`super::tile::TOUCH`] of the runs' lengths and depth).
+fn abut(a: &Stretch, b: &Stretch) -> bool {
+    let scale = (a.far - a.near).max(b.far - b.near) + a.far.abs();
+    (b.near - a.far).abs() <= super::tile::TOUCH * scale
 }

@@ -149,6 +149,29 @@ impl Runs {
         }
     }
 
+    /// For each of `depths`, an end (near or far depth) of one of the pixel's runs within
+    /// `touch` of it, or NaN: the surfaces the runs already hold there. `test` draws a face
+    /// once per ray by looking for the depth of the cell before it; in per-pixel order that
+    /// cell is not the one before along the ray but any run's end (docs/distributed.md).
+    pub fn ends_at(&self, slot: usize, depths: [f64; 2], touch: f64) -> [f64; 2] {
+        let mut found = [f64::NAN; 2];
+        let mut at = self.heads[slot];
+        while at != NONE {
+            let (r, next) = &self.arena[at as usize];
+            // A run that changes no light holds no surface (cells the ray only grazes).
+            let surfaces = r.theta != 1.0 || r.b.iter().any(|v| v.to_bits() != 0);
+            for (f, &d) in found.iter_mut().zip(&depths).filter(|_| surfaces) {
+                for end in [r.near, r.far] {
+                    if f.is_nan() && (end - d).abs() <= touch {
+                        *f = end;
+                    }
+                }
+            }
+            at = *next;
+        }
+        found
+    }
+
     /// The first run of a pixel with `pred`, and the run before it in the list.
     #[inline]
     fn find(&self, slot: usize, pred: impl Fn(&Run) -> bool) -> Option<(u32, u32)> {

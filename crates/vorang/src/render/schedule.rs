@@ -63,6 +63,11 @@ pub struct Stats {
     /// mesh, integrated twice), and sorted example pairs of such cells.
     pub overlap_pixels: usize,
     pub overlap_cells: Vec<(u32, u32)>,
+    /// A distributed `render_ftb` frame: pixels whose transparency fell below
+    /// [`super::EARLY_TERMINATION`]. One process would have stopped compositing there (on a
+    /// convex mesh); the ranks composited every cell, so these pixels may differ from one
+    /// process's image by less than that transparency times the light behind.
+    pub opaque_pixels: usize,
     pub timing: Timing,
     /// A distributed frame (on rank 0): what each rank did, by rank; empty in one process.
     pub ranks: Vec<RankLoad>,
@@ -100,6 +105,7 @@ impl Stats {
             first_non_finite: None,
             overlap_pixels: 0,
             overlap_cells: Vec::new(),
+            opaque_pixels: 0,
             timing: Timing::default(),
             ranks: Vec::new(),
         }
@@ -242,6 +248,7 @@ pub fn render_watched(
             first_non_finite,
             overlap_pixels,
             overlap_cells,
+            opaque_pixels: 0,
             timing: Timing {
                 setup,
                 sort: sort_time,

@@ -737,6 +737,13 @@ impl<A: Approx> RayCell<'_, A> {
             touch: c.touch,
             edge_on: [entry_on, exit_on],
         };
+        if A::FACES
+            && let Pixels::Runs(runs) = &out.canvas.pixels
+        {
+            // The surfaces already drawn at this pixel are its runs' ends, whatever order the
+            // cells came in (the cell before in compositing order need not be the one in front).
+            scratch.faces[slot] = runs.ends_at(slot, [iv.near, iv.far], c.touch);
+        }
         out.canvas.fragments += 1;
         let piece = self.method.pixel(f, c.cell, prepared, &px, scratch);
         match &mut out.canvas.pixels {

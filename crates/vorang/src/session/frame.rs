@@ -146,10 +146,6 @@ impl Session {
         // Bound on every rank's piece: the maps may fit one and not another.
         self.agree(bound.as_ref().map(|_| ()).map_err(String::clone))?;
         let (mapping, w) = bound?;
-        if self.is_distributed() {
-            self.distributable(&self.settings.method)
-                .map_err(|e| format!("{command}: {e}"))?;
-        }
         let ranked = match &self.ranks {
             Ranks::One => Ranked::One,
             Ranks::Comm(c) => Ranked::Comm(Arc::clone(c)),
@@ -320,6 +316,13 @@ impl Session {
                 stats.overlap_pixels,
                 a + 1,
                 b + 1
+            )));
+        }
+        if stats.opaque_pixels > 0 {
+            notices.push(Notice::Note(format!(
+                "{command}: {} pixels turned opaque (transparency below {}): the ranks composited every cell behind that point, where one process stops front to back; these pixels may differ from one process's by less than that transparency (docs/distributed.md)",
+                stats.opaque_pixels,
+                crate::render::EARLY_TERMINATION
             )));
         }
         if stats.cycle_cells > 0 {

@@ -661,16 +661,6 @@ impl Session {
         self.method_set = true;
     }
 
-    /// `method …` in a distributed session: whether the ranks can render it (a method they
-    /// cannot is refused at the command, and again at every render).
-    pub fn check_method(&self, method: &Method) -> Result<(), String> {
-        if self.is_distributed() {
-            self.distributable(method)
-                .map_err(|e| format!("method: {e}"))?;
-        }
-        Ok(())
-    }
-
     /// `imagesize width height`.
     pub fn set_image_size(&mut self, width: usize, height: usize) -> Result<(), String> {
         crate::render::check_size(width, height).map_err(|e| format!("imagesize: {e}"))?;

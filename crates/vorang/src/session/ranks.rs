@@ -8,8 +8,7 @@
 //! rank's error. What depends on the whole volume is combined over the ranks: `view_all` from
 //! every rank's extremes, the fields' data ranges (legend, preset maps) at `volume`, and a time
 //! series of `.pvtu` steps is read step by step, each rank its share. Commands that would need
-//! the whole volume on one rank (`data`, `save_volume`, `save_subset`) say so, and so do the
-//! methods ranks cannot render as one process does (`test`).
+//! the whole volume on one rank (`data`, `save_volume`, `save_subset`) say so.
 //!
 //! [`Ranks::Virtual`] runs the same steps with ranks as threads of this process, each with its
 //! own piece: `vorang --virtual-ranks N` renders what `mpirun -np N vorang` renders.
@@ -147,19 +146,6 @@ impl Session {
                 local,
             ),
         }
-    }
-
-    /// Whether the ranks can render `method` as one process does: not `test` on more than one
-    /// rank, which draws each face once per ray by remembering the cell before it at the pixel
-    /// — at a face between two ranks' cells that cell is on the other rank, so both would draw
-    /// the face. (One rank holds every cell, as one process does.)
-    pub(super) fn distributable(&self, method: &crate::render::Method) -> Result<(), String> {
-        if let crate::render::Method::Test(_) = method
-            && self.rank().1 > 1
-        {
-            return Err("the method test is not available on more than one rank: it draws each face once per ray by remembering the cell before it at the pixel, and at a face between two ranks' cells that cell is on the other rank (docs/distributed.md); set 'method exact …', 'interpolateCoeff …' or 'interpolateColor …'".into());
-        }
-        Ok(())
     }
 
     /// The error of a command that needs the whole volume on one rank.

@@ -17,11 +17,10 @@ pub const METHOD: CommandInfo = CommandInfo {
     name: "method",
     usage: "name ?parameters?",
     summary: "the approximation method: exact integration step brightness | interpolateCoeff integration brightness | interpolateColor brightness | test opacity",
-    details: "Default: test 0.5. Integration rules: trapez, constEA, weightedConstEA, linear. 'step' is the largest distance between samples in world units (0: the whole cell interval); 'brightness' scales all emission. The thesis's short names interpolCoeff and interpolColor are accepted for interpolateCoeff and interpolateColor. A distributed session (mpirun, --virtual-ranks) refuses test on more than one rank (docs/distributed.md).",
+    details: "Default: test 0.5. Integration rules: trapez, constEA, weightedConstEA, linear. 'step' is the largest distance between samples in world units (0: the whole cell interval); 'brightness' scales all emission. The thesis's short names interpolCoeff and interpolColor are accepted for interpolateCoeff and interpolateColor.",
     run: |s: &mut Context, c: &Call| {
         let words: Vec<&str> = c.args().iter().map(String::as_str).collect();
         let method = Method::parse(&words).map_err(|e| format!("method: {e}"))?;
-        s.session.check_method(&method)?;
         s.session.set_method(method);
         Ok(String::new())
     },
@@ -31,7 +30,7 @@ pub const BACKEND: CommandInfo = CommandInfo {
     name: "backend",
     usage: "?cpu|gpu?",
     summary: "which renders the frames: the CPU (default) or the GPU; without an argument returns the current backend and adapter",
-    details: "'backend gpu' renders 'method exact linear 0 B' with 64-bit floats in Vulkan compute shaders (a build with '--features gpu' and a Vulkan adapter with shaderFloat64, e.g. lavapipe from mesa-vulkan-drivers); the image is the CPU's up to rounding. Without such an adapter, or in a build without the feature, it is an error saying what is missing. Methods the GPU does not render yet are refused at render time; 'backend cpu' switches back.",
+    details: "'backend gpu' renders 'exact linear 0 B', 'interpolateCoeff linear B' and 'interpolateColor B' with 64-bit floats in Vulkan compute shaders (a build with '--features gpu' and a Vulkan adapter with shaderFloat64, e.g. lavapipe from mesa-vulkan-drivers); the image is the CPU's up to rounding. Without such an adapter, or in a build without the feature, it is an error saying what is missing. Methods the GPU does not render yet are refused at render time; 'backend cpu' switches back.",
     run: |s: &mut Context, c: &Call| {
         c.expect(0..=1)?;
         match c.args() {

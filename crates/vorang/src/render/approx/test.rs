@@ -1,8 +1,10 @@
 //! `test <opacity>` (thesis 6.3.1 „Test-Methode“): geometry only. Every cell face is a
 //! semi-transparent red surface of the given opacity; no depth clipping. Each face is drawn
 //! once per ray: a cell draws the faces the ray enters and leaves it through, except a face at
-//! the depth where the previous cell of this pixel (in compositing order, which is the order
-//! along the ray) left or entered — that is the same surface. Deciding by depth rather than by
+//! a depth where the pixel already holds a surface — [`Scratch::faces`]: where the previous
+//! cell of this pixel (in compositing order, which is the order along the ray) left or
+//! entered, or in per-pixel order (non-convex meshes, `render/runs.rs`) where one of the
+//! pixel's runs ends. Deciding by depth rather than by
 //! which faces are shared also gets a ray right that leaves the mesh exactly through an edge or
 //! node, where the cell beyond the exit face is only touched and draws nothing.
 
@@ -30,6 +32,25 @@ fn parse(args: &[&str]) -> Result<Method, String> {
 }
 
 const RED: [f64; 3] = [1.0, 0.0, 0.0];
+
+impl Test {
+    /// A run's map `(b, θ)` without the surface at its near end: where the cells of two ranks
+    /// meet along a ray, each rank drew the face between them (its run ends or starts there),
+    /// one process draws it once (docs/distributed.md). The near surface is the last map the
+    /// run applies, `I ↦ I·(1 − a) + a·red`; undone here. Opaque surfaces (a = 1) hide what
+    /// lies behind them, so drawing one twice is drawing it once: nothing to undo.
+    pub fn without_near_surface(&self, (b, theta): ([f64; 3], f64)) -> ([f64; 3], f64) {
+        let a = self.opacity;
+        if a >= 1.0 {
+            return (b, theta);
+        }
+        let keep = 1.0 - a;
+        (
+            std::array::from_fn(|c| (b[c] - a * RED[c]) / keep),
+            theta / keep,
+        )
+    }
+}
 
 impl Approx for Test {
     type Cell = ();
