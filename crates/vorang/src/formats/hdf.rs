@@ -37,8 +37,15 @@ fn read_limit(file_len: usize) -> usize {
     file_len.saturating_mul(4096).max(256 << 20)
 }
 
+/// No chunk cache: a mesh's datasets are read once each, and with a cache `hdf5-reader` also
+/// keeps a copy of every chunked dataset up to 32 MiB for as long as the file is open (the
+/// peak of a load: docs/formats.md, "Speed and memory").
 fn options(file_len: usize) -> OpenOptions {
-    OpenOptions::default().with_max_read_bytes(read_limit(file_len))
+    OpenOptions {
+        chunk_cache_bytes: 0,
+        ..OpenOptions::default()
+    }
+    .with_max_read_bytes(read_limit(file_len))
 }
 
 impl H5 {
@@ -47,8 +54,19 @@ impl H5 {
         let len = std::fs::metadata(path)
             .map_err(|e| ParseError::new(name, 0, e.to_string()))?
             .len();
-        let file = Hdf5File::open_with_options(path, options(len as usize))
-            .map_err(|e| ParseError::new(name, 0, format!("not a readable HDF5 file: {e}")))?;
+        let bad = |e: &dyn std::fmt::Display| {
+            ParseError::new(name, 0, format!("not a readable HDF5 file: {e}"))
+        };
+        // Mapped and read from the map, so that a contiguous dataset is copied once, into its
+        // array (`hdf5-reader`'s own `open` reads each range into a buffer first).
+        let f = std::fs::File::open(path).map_err(|e| bad(&e))?;
+        // SAFETY: the map is only read; as for every mapped file, another program truncating
+        // the file meanwhile is not guarded against.
+        let map = unsafe { memmap2::Mmap::map(&f) }.map_err(|e| bad(&e))?;
+        let storage: hdf5_reader::storage::DynStorage =
+            std::sync::Arc::new(hdf5_reader::storage::MmapStorage::new(map));
+        let file = Hdf5File::from_storage_with_options(storage, options(len as usize))
+            .map_err(|e| bad(&e))?;
         Ok(H5 {
             file,
             name: name.to_string(),
@@ -218,7 +236,18 @@ fn read_typed(
                 Some(s) => ds.read_slice::<$t>(s),
                 None => ds.read_array::<$t>(),
             }
-            .map(|a| a.into_iter().collect::<Vec<$t>>())
+            .map(|a| {
+                // The array's own buffer where it is one (as `hdf5-reader` builds them), so
+                // that a large dataset is not copied.
+                if !a.is_standard_layout() {
+                    return a.iter().cloned().collect::<Vec<$t>>();
+                }
+                let n = a.len();
+                let (mut values, offset) = a.into_raw_vec_and_offset();
+                values.drain(..offset.unwrap_or(0).min(values.len()));
+                values.truncate(n);
+                values
+            })
             .map_err(|e| e.to_string())
         };
     }

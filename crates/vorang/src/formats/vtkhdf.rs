@@ -224,15 +224,17 @@ fn describe(h5: &H5, index: usize) -> Result<Vec<MeshDescription>, ParseError> {
             .map(|i| [pts.get(3 * i), pts.get(3 * i + 1), pts.get(3 * i + 2)])
             .collect();
         desc.float_coordinates = matches!(pts, ArrayValues::F32(_)) && np > 0;
-        let first_cell = start.cell + cell;
-        let types = h5.read_int_rows(&format!("{ROOT}/Types"), Some((first_cell, nc)))?;
-        // Each part written before this one added one offset more than it has cells.
-        let offsets = h5.read_int_rows(
-            &format!("{ROOT}/Offsets"),
-            Some((first_cell + p as u64, nc + 1)),
-        )?;
-        let ids = h5.read_int_rows(&format!("{ROOT}/Connectivity"), Some((conn, ni)))?;
-        add_cells(h5, &mut desc.cells, &types, &offsets, &ids, np)?;
+        drop(pts);
+        let part = Part {
+            first_cell: start.cell + cell,
+            // Each part written before this one added one offset more than it has cells.
+            first_offset: start.cell + cell + p as u64,
+            cells: nc,
+            first_id: conn,
+            ids: ni,
+            points: np,
+        };
+        add_cells(h5, &mut desc.cells, &part)?;
         desc.point_arrays = arrays(h5, "PointData", &point_offsets, point, np)?;
         desc.cell_arrays = arrays(h5, "CellData", &cell_offsets, cell, nc)?;
         parts.push(desc);
@@ -243,42 +245,99 @@ fn describe(h5: &H5, index: usize) -> Result<Vec<MeshDescription>, ParseError> {
     Ok(parts)
 }
 
-/// One part's cells (0-based connectivity within the part).
-fn add_cells(
-    h5: &H5,
-    cells: &mut Cells,
-    types: &[i64],
-    offsets: &[i64],
-    ids: &[i64],
+/// Where one part's cells are in the datasets: its rows of `Types` and `Offsets`, of
+/// `Connectivity`, and its number of points.
+struct Part {
+    first_cell: u64,
+    first_offset: u64,
+    cells: u64,
+    first_id: u64,
+    ids: u64,
     points: u64,
-) -> Result<(), ParseError> {
+}
+
+/// Cells read per batch: the types, offsets and node numbers of a large grid are read a batch
+/// at a time, so that they never exist whole beside the cells (as 64-bit numbers they would
+/// be twice their size; docs/formats.md, "Speed and memory").
+const BATCH: u64 = 1 << 18;
+
+/// One part's cells (0-based connectivity within the part), batch by batch.
+fn add_cells(h5: &H5, cells: &mut Cells, part: &Part) -> Result<(), ParseError> {
+    add_cells_by(h5, cells, part, BATCH)
+}
+
+/// [`add_cells`] `batch` cells at a time.
+fn add_cells_by(h5: &H5, cells: &mut Cells, part: &Part, batch: u64) -> Result<(), ParseError> {
+    let rows = |name: &str, first: u64, n: u64| {
+        h5.read_int_rows(&format!("{ROOT}/{name}"), Some((first, n)))
+    };
+    // Reserved for the counts only where the datasets hold that many rows: a corrupt count
+    // reserves nothing (the reads then say what is missing).
+    let holds = |name: &str, end: u64| {
+        h5.shape(&format!("{ROOT}/{name}"))
+            .is_ok_and(|s| s.first().is_some_and(|&rows| end <= rows))
+    };
+    if holds("Types", part.first_cell.saturating_add(part.cells))
+        && holds("Connectivity", part.first_id.saturating_add(part.ids))
+    {
+        let (n, ids) = (part.cells as usize, part.ids as usize);
+        cells.types.reserve_exact(n);
+        cells.offsets.reserve_exact(n + 1);
+        cells.connectivity.reserve_exact(ids);
+    }
     let mut nodes = Vec::new();
-    for (i, &ty) in types.iter().enumerate() {
-        let (a, b) = (offsets[i], offsets[i + 1]);
-        if a < 0 || b < a || b as usize > ids.len() {
+    let mut first = 0;
+    while first < part.cells {
+        let count = batch.min(part.cells - first);
+        let types = rows("Types", part.first_cell + first, count)?;
+        let offsets = rows("Offsets", part.first_offset + first, count + 1)?;
+        let (lo, hi) = (offsets[0], offsets[offsets.len() - 1]);
+        if lo < 0 || hi < lo || hi as u64 > part.ids {
             return Err(located(
                 h5,
                 "dataset /VTKHDF/Offsets",
                 format!(
-                    "cell {i}: offsets {a} … {b} outside the connectivity's {} ids",
-                    ids.len()
+                    "cells {} … {}: offsets {lo} … {hi} outside the connectivity's {} ids",
+                    first,
+                    first + count - 1,
+                    part.ids
                 ),
             ));
         }
-        nodes.clear();
-        for &id in &ids[a as usize..b as usize] {
-            if id < 0 || id as u64 >= points {
+        let ids = rows("Connectivity", part.first_id + lo as u64, (hi - lo) as u64)?;
+        for (k, &ty) in types.iter().enumerate() {
+            let i = first as usize + k;
+            let (a, b) = (offsets[k], offsets[k + 1]);
+            if a < lo || b < a || b > hi {
                 return Err(located(
                     h5,
-                    "dataset /VTKHDF/Connectivity",
-                    format!("cell {i}: point {id} is not one of the part's {points} points"),
+                    "dataset /VTKHDF/Offsets",
+                    format!(
+                        "cell {i}: offsets {a} … {b} outside the connectivity's {} ids",
+                        part.ids
+                    ),
                 ));
             }
-            nodes.push(id as u64);
+            nodes.clear();
+            for &id in &ids[(a - lo) as usize..(b - lo) as usize] {
+                if id < 0 || id as u64 >= part.points {
+                    return Err(located(
+                        h5,
+                        "dataset /VTKHDF/Connectivity",
+                        format!(
+                            "cell {i}: point {id} is not one of the part's {} points",
+                            part.points
+                        ),
+                    ));
+                }
+                nodes.push(id as u64);
+            }
+            let ty = u8::try_from(ty).map_err(|_| {
+                located(h5, "dataset /VTKHDF/Types", format!("cell {i}: type {ty}"))
+            })?;
+            cells.push(ty, &nodes);
         }
-        let ty = u8::try_from(ty)
-            .map_err(|_| located(h5, "dataset /VTKHDF/Types", format!("cell {i}: type {ty}")))?;
-        cells.push(ty, &nodes);
+        first += count;
     }
     Ok(())
 }
@@ -348,5 +407,41 @@ mod tests {
     fn bad_bytes_are_an_error_naming_the_file() {
         let e = read_parts(b"\x89HDF\r\n\x1a\nnonsense", "x.vtkhdf").unwrap_err();
         assert!(e.to_string().starts_with("x.vtkhdf: "), "{e}");
+    }
+
+    /// Batches of any size give the cells read in one batch (a batch boundary inside a cell's
+    /// node numbers is where an off-by-one would show), and a part's offsets pointing past its
+    /// connectivity are an error naming the dataset.
+    #[test]
+    fn cells_read_in_batches_are_the_cells_read_at_once() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../tests/data/multistep/flow.vtkhdf");
+        let h5 = H5::open(&path, "flow.vtkhdf").unwrap();
+        let count = |name: &str| h5.read_ints(&format!("{ROOT}/{name}")).unwrap()[0] as u64;
+        let part = Part {
+            first_cell: 0,
+            first_offset: 0,
+            cells: count("NumberOfCells"),
+            first_id: 0,
+            ids: count("NumberOfConnectivityIds"),
+            points: count("NumberOfPoints"),
+        };
+        assert!(part.cells > 10);
+        let mut whole = Cells::default();
+        add_cells(&h5, &mut whole, &part).unwrap();
+        assert_eq!(whole.len() as u64, part.cells);
+        for batch in [1, 2, 3, 7, part.cells - 1] {
+            let mut cells = Cells::default();
+            add_cells_by(&h5, &mut cells, &part, batch).unwrap();
+            assert_eq!(cells.types, whole.types, "batch {batch}");
+            assert_eq!(cells.offsets, whole.offsets, "batch {batch}");
+            assert_eq!(cells.connectivity, whole.connectivity, "batch {batch}");
+        }
+        let short = Part {
+            ids: part.ids - 1,
+            ..part
+        };
+        let e = add_cells_by(&h5, &mut Cells::default(), &short, 3).unwrap_err();
+        assert!(e.to_string().contains("/VTKHDF/Offsets"), "{e}");
     }
 }

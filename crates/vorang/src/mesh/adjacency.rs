@@ -13,28 +13,32 @@ use super::{MeshError, NO_NEIGHBOR};
 /// Nodes whose buckets one parallel task matches (a few hundred thousand faces).
 const NODES_PER_TASK: usize = 1 << 14;
 
-/// The matching faces of the buckets of `nodes`: pairs of face ids (cell·4 + face), or the
-/// first face shared by more than two cells.
+/// Marks a place of a bucket that holds no matched face after [`match_buckets`].
+const UNMATCHED: u32 = u32::MAX;
+
+/// Matches the faces of the buckets of `nodes`, whose face ids `ids` holds (the buckets one
+/// after another, `start` as for all nodes): each bucket's slots are overwritten with its
+/// matched faces as consecutive pairs, then [`UNMATCHED`]. Fails on the first face shared by
+/// more than two cells.
 fn match_buckets(
     tets: &[[u32; 4]],
     start: &[u32],
-    order: &[u32],
+    ids: &mut [u32],
     nodes: std::ops::Range<usize>,
-) -> Result<Vec<(u32, u32)>, MeshError> {
-    let mut pairs = Vec::new();
+) -> Result<(), MeshError> {
+    let base = start[nodes.start] as usize;
     let mut bucket: Vec<(u64, u32)> = Vec::with_capacity(64);
     for a in nodes {
-        let ids = &order[start[a] as usize..start[a + 1] as usize];
-        if ids.len() < 2 {
-            continue;
-        }
+        let slots = &mut ids[start[a] as usize - base..start[a + 1] as usize - base];
         bucket.clear();
-        bucket.extend(ids.iter().map(|&id| {
+        bucket.extend(slots.iter().map(|&id| {
             let (t, f) = (id as usize / 4, id as usize % 4);
             let [_, b, c] = sorted_face(&tets[t], f);
             ((u64::from(b) << 32) | u64::from(c), id)
         }));
         bucket.sort_unstable();
+        slots.fill(UNMATCHED);
+        let mut written = 0;
         let mut i = 0;
         while i < bucket.len() {
             let mut j = i + 1;
@@ -43,7 +47,11 @@ fn match_buckets(
             }
             match j - i {
                 1 => {}
-                2 => pairs.push((bucket[i].1, bucket[i + 1].1)),
+                2 => {
+                    slots[written] = bucket[i].1;
+                    slots[written + 1] = bucket[i + 1].1;
+                    written += 2;
+                }
                 _ => {
                     let mut ids: Vec<usize> =
                         bucket[i..j].iter().map(|&(_, id)| id as usize).collect();
@@ -59,13 +67,20 @@ fn match_buckets(
             i = j;
         }
     }
-    Ok(pairs)
+    Ok(())
 }
 
 /// For each cell and face `i` (opposite node `i`): the neighbouring cell or [`NO_NEIGHBOR`].
 /// Fails if a face is shared by more than two cells.
+///
+/// Memory: besides the result, one face id per face (the buckets), which the matching then
+/// overwrites in place with the matched pairs — no list of pairs is built, so loading a mesh
+/// peaks at the buckets plus the result (docs/formats.md).
 pub fn face_neighbors(node_count: usize, tets: &[[u32; 4]]) -> Result<Vec<[u32; 4]>, MeshError> {
     let faces = tets.len() * 4;
+    if faces > UNMATCHED as usize {
+        return Err(MeshError::TooLarge { tets: tets.len() });
+    }
     // Count faces per smallest node.
     let mut start = vec![0u32; node_count + 1];
     for tet in tets {
@@ -89,23 +104,31 @@ pub fn face_neighbors(node_count: usize, tets: &[[u32; 4]]) -> Result<Vec<[u32; 
     drop(fill);
 
     // Each node's bucket is matched on its own, so the buckets are matched in parallel, in
-    // chunks of nodes; the pairs are written afterwards. The chunks come back in node order, so
-    // the first error reported is the one a single thread would find first.
-    let matched: Vec<Result<Vec<(u32, u32)>, MeshError>> = (0..node_count)
+    // chunks of nodes, each chunk owning its buckets' stretch of `order`. The chunks' results
+    // come back in node order, so the first error reported is the one a single thread would
+    // find first.
+    let mut chunks: Vec<(std::ops::Range<usize>, &mut [u32])> = Vec::new();
+    let mut rest: &mut [u32] = &mut order;
+    for first in (0..node_count).step_by(NODES_PER_TASK) {
+        let last = (first + NODES_PER_TASK).min(node_count);
+        let (mine, after) = rest.split_at_mut((start[last] - start[first]) as usize);
+        chunks.push((first..last, mine));
+        rest = after;
+    }
+    let matched: Vec<Result<(), MeshError>> = chunks
         .into_par_iter()
-        .step_by(NODES_PER_TASK)
-        .map(|first| {
-            let last = (first + NODES_PER_TASK).min(node_count);
-            match_buckets(tets, &start, &order, first..last)
-        })
+        .map(|(nodes, ids)| match_buckets(tets, &start, ids, nodes))
         .collect();
+    matched.into_iter().collect::<Result<(), MeshError>>()?;
+    drop(start);
+    // Every bucket begins with its pairs, so the matched faces of all buckets pair up in the
+    // order they stand.
     let mut neighbors = vec![[NO_NEIGHBOR; 4]; tets.len()];
-    for pairs in matched {
-        for (p, q) in pairs? {
-            let (p, q) = (p as usize, q as usize);
-            neighbors[p / 4][p % 4] = (q / 4) as u32;
-            neighbors[q / 4][q % 4] = (p / 4) as u32;
-        }
+    let mut matched = order.iter().filter(|&&id| id != UNMATCHED);
+    while let (Some(&p), Some(&q)) = (matched.next(), matched.next()) {
+        let (p, q) = (p as usize, q as usize);
+        neighbors[p / 4][p % 4] = (q / 4) as u32;
+        neighbors[q / 4][q % 4] = (p / 4) as u32;
     }
     Ok(neighbors)
 }

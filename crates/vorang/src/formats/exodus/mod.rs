@@ -14,7 +14,7 @@ mod blocks;
 
 use std::path::{Path, PathBuf};
 
-use netcdf_reader::{NcFile, NcReadable, NcSliceInfo, NcSliceInfoElem, NcType};
+use netcdf_reader::{NcFile, NcOpenOptions, NcReadable, NcSliceInfo, NcSliceInfoElem, NcType};
 
 use super::{Array, ArrayValues, FileStep, MeshDescription};
 use crate::error::ParseError;
@@ -38,6 +38,27 @@ pub(super) struct Exo {
     /// a classic file, 1100 times that for netCDF-4, whose data may be compressed (deflate
     /// expands at most about 1032-fold).
     limit: u64,
+    /// netCDF-4 (HDF5), read through `hdf5-reader` ([`nc4_options`]); else classic.
+    nc4: bool,
+}
+
+/// How a netCDF-4 file is opened: no chunk cache — a mesh's variables are read once each, and
+/// with a cache `hdf5-reader` also keeps a copy of every chunked variable up to 32 MiB for as
+/// long as the file is open, which made a deflated file's load peak at 2.4× its volume
+/// (docs/formats.md, "Speed and memory") — and no read larger than `limit` bytes, checked
+/// before anything is allocated for it.
+fn nc4_options(limit: u64) -> NcOpenOptions {
+    NcOpenOptions {
+        chunk_cache_bytes: 0,
+        max_read_bytes: usize::try_from(limit).unwrap_or(usize::MAX),
+        ..NcOpenOptions::default()
+    }
+}
+
+/// How many bytes a netCDF-4 variable read whole may claim: its data may be compressed, and
+/// deflate expands at most about 1032-fold.
+fn nc4_limit(len: u64) -> u64 {
+    len.saturating_mul(1100)
 }
 
 impl Exo {
@@ -64,31 +85,27 @@ impl Exo {
             let map = unsafe { memmap2::Mmap::map(&file) }.map_err(|e| bad(&e))?;
             let storage: netcdf_reader::DynStorage =
                 std::sync::Arc::new(netcdf_reader::MmapStorage::new(map));
-            NcFile::from_storage(storage).map_err(|e| bad(&e))?
+            NcFile::from_storage_with_options(storage, nc4_options(nc4_limit(len)))
+                .map_err(|e| bad(&e))?
         };
         Ok(Exo {
             nc,
             name: name.to_string(),
-            limit: if classic {
-                len
-            } else {
-                len.saturating_mul(1100)
-            },
+            limit: if classic { len } else { nc4_limit(len) },
+            nc4: !classic,
         })
     }
 
     fn from_bytes(bytes: &[u8], name: &str) -> Result<Exo, ParseError> {
-        let nc = NcFile::from_bytes(bytes)
-            .map_err(|e| ParseError::new(name, 0, format!("not a readable netCDF file: {e}")))?;
         let len = bytes.len() as u64;
+        let classic = bytes.starts_with(b"CDF");
+        let nc = NcFile::from_bytes_with_options(bytes, nc4_options(nc4_limit(len)))
+            .map_err(|e| ParseError::new(name, 0, format!("not a readable netCDF file: {e}")))?;
         Ok(Exo {
             nc,
             name: name.to_string(),
-            limit: if bytes.starts_with(b"CDF") {
-                len
-            } else {
-                len.saturating_mul(1100)
-            },
+            limit: if classic { len } else { nc4_limit(len) },
+            nc4: !classic,
         })
     }
 
@@ -180,10 +197,12 @@ impl Exo {
     }
 
     /// A variable's values in its own type `T` (the whole variable, or `selection`), as a
-    /// vector. A whole variable is read straight into a vector of its size (no array to copy
-    /// from, no bytes decoded on the side: a large connectivity exists once) when the file can
-    /// hold that many values (`limit`), so that a corrupt shape cannot reserve memory;
-    /// otherwise the reader's own array is taken.
+    /// vector. A whole variable of a classic file is read straight into a vector of its size
+    /// (no array to copy from, no bytes decoded on the side: a large connectivity exists once)
+    /// when the file can hold that many values (`limit`), so that a corrupt shape cannot
+    /// reserve memory. Otherwise the reader's own array is taken: for netCDF-4 it is built in
+    /// place from the chunks, once (reading into a vector of ours would leave `hdf5-reader` a
+    /// copy of a chunked variable), and the reader refuses reads beyond `limit`.
     fn native<T: NcReadable + Clone + Default>(
         &self,
         var: &str,
@@ -196,7 +215,7 @@ impl Exo {
                 .try_fold(1u64, |n, &d| n.checked_mul(d))
                 .and_then(|n| n.checked_mul(std::mem::size_of::<T>() as u64))
         });
-        if all && size.is_some_and(|b| b <= self.limit) {
+        if all && !self.nc4 && size.is_some_and(|b| b <= self.limit) {
             let n = size.unwrap_or(0) as usize / std::mem::size_of::<T>().max(1);
             let mut values = vec![T::default(); n];
             self.nc.read_variable_into(var, &mut values)?;

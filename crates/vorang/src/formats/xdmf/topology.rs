@@ -149,8 +149,9 @@ pub fn cells(items: &mut Items, t: &Node, points: usize) -> Result<Cells, ParseE
         .first("DataItem")
         .ok_or_else(|| items.error(t.line, "Topology without a DataItem"))?;
     let data = items.read(item)?;
-    let ids: Vec<i64> = match &data.values {
-        crate::formats::ArrayValues::Int(v) => v.clone(),
+    // Taken, not copied: a large connectivity exists once while its cells are built.
+    let ids: Vec<i64> = match data.values {
+        crate::formats::ArrayValues::Int(v) => v,
         other => (0..other.len()).map(|i| other.get(i) as i64).collect(),
     };
     let check = |i: usize, n: i64| -> Result<u64, ParseError> {
@@ -220,6 +221,9 @@ pub fn cells(items: &mut Items, t: &Node, points: usize) -> Result<Cells, ParseE
             ),
         ));
     }
+    cells.types.reserve_exact(ids.len() / per);
+    cells.offsets.reserve_exact(ids.len() / per + 1);
+    cells.connectivity.reserve_exact(ids.len());
     let mut nodes = Vec::with_capacity(per);
     for (i, cell) in ids.chunks_exact(per).enumerate() {
         nodes.clear();
