@@ -464,11 +464,32 @@ impl Buffers<'_> {
         self.consts[slot::TABLE + i]
     }
 
-    /// `piece_of`.
-    fn piece_of(&self, s: f64) -> usize {
-        (0..self.knot_count())
-            .filter(|&i| self.knot(i) <= s)
-            .count()
+    /// `piece_of`: the number of knots `≤ s`, by bisection.
+    pub fn piece_of(&self, s: f64) -> usize {
+        let (mut lo, mut hi) = (0, self.knot_count());
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if self.knot(mid) <= s {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
+    /// `knots_below`: the number of knots `< s`, by bisection.
+    pub fn knots_below(&self, s: f64) -> usize {
+        let (mut lo, mut hi) = (0, self.knot_count());
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if self.knot(mid) < s {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
     }
 
     /// `eval_in`.
@@ -549,16 +570,18 @@ impl Buffers<'_> {
         if self.piece_of(s_near) == p {
             acc = self.piece(0.0, 1.0, p, s_far, s_near, length);
         } else {
-            let (lo, hi) = (s_far.min(s_near), s_far.max(s_near));
-            let k = self.knot_count();
+            let rising = s_near > s_far;
+            let (lo, hi) = if rising {
+                (s_far, s_near)
+            } else {
+                (s_near, s_far)
+            };
+            let first = self.piece_of(lo);
+            let last = self.knots_below(hi).max(first);
             let mut prev = 0.0;
-            for j in 0..k {
-                let i = if s_near > s_far { j } else { k - 1 - j };
-                let x = self.knot(i);
-                if !(x > lo && x < hi) {
-                    continue;
-                }
-                let u = (x - s_far) / (s_near - s_far);
+            for j in 0..last - first {
+                let i = if rising { first + j } else { last - 1 - j };
+                let u = (self.knot(i) - s_far) / (s_near - s_far);
                 if u > prev {
                     acc = accumulate(acc, self.piece_between(prev, u, s_far, s_near, length));
                     prev = u;

@@ -103,15 +103,37 @@ fn knot(i: u32) -> f64 {
     return consts[TABLE + i];
 }
 
-// The piece of the table holding s: the number of knots ≤ s.
+// The piece of the table holding s: the number of knots ≤ s (Transfer1D::piece), by bisection
+// of the increasing knots. A count over every knot would cost each lookup as many loop
+// iterations as the table has knots, and lavapipe ends the loops of a batch of invocations
+// that run too many of them all together (docs/gpu.md).
 fn piece_of(s: f64) -> u32 {
-    var n = 0u;
-    for (var i = 0u; i < knot_count(); i++) {
-        if (knot(i) <= s) {
-            n++;
+    var lo = 0u;
+    var hi = knot_count();
+    while (lo < hi) {
+        let mid = lo + (hi - lo) / 2u;
+        if (knot(mid) <= s) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
         }
     }
-    return n;
+    return lo;
+}
+
+// The number of knots < s, by bisection.
+fn knots_below(s: f64) -> u32 {
+    var lo = 0u;
+    var hi = knot_count();
+    while (lo < hi) {
+        let mid = lo + (hi - lo) / 2u;
+        if (knot(mid) < s) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
 }
 
 // (η, χ) at s with the formula of piece p (Transfer1D::eval_in).
@@ -159,25 +181,24 @@ fn piece_between(u0: f64, u1: f64, s_far: f64, s_near: f64, length: f64) -> Cont
 }
 
 // A cell's (b, θ) for `exact linear 0` (Exact::transfer_pixel): cut where the field crosses a
-// knot, each piece integrated exactly, far to near; b times the brightness.
+// knot, each piece integrated exactly, far to near; b times the brightness. Only the knots
+// strictly between the ends are visited (Transfer1D::knots_between: first .. last).
 fn cell_contribution(s_far: f64, s_near: f64, length: f64) -> Contribution {
     var acc = Contribution(vec3<f64>(0.0lf, 0.0lf, 0.0lf), 1.0lf);
     let p = piece_of(s_far);
     if (piece_of(s_near) == p) {
         acc = piece(0.0lf, 1.0lf, p, s_far, s_near, length);
     } else {
-        let lo = min(s_far, s_near);
-        let hi = max(s_far, s_near);
-        let k = knot_count();
+        let rising = s_near > s_far;
+        let lo = select(s_near, s_far, rising);
+        let hi = select(s_far, s_near, rising);
+        let first = piece_of(lo);
+        let last = max(knots_below(hi), first);
         var prev = 0.0lf;
-        for (var j = 0u; j < k; j++) {
-            // Knots strictly between the ends, in the order the ray meets them from the far end.
-            let i = select(k - 1u - j, j, s_near > s_far);
-            let x = knot(i);
-            if (!(x > lo && x < hi)) {
-                continue;
-            }
-            let u = (x - s_far) / (s_near - s_far);
+        for (var j = 0u; j < last - first; j++) {
+            // In the order the ray meets them from the far end.
+            let i = select(last - 1u - j, first + j, rising);
+            let u = (knot(i) - s_far) / (s_near - s_far);
             if (u > prev) {
                 acc = accumulate(acc, piece_between(prev, u, s_far, s_near, length));
                 prev = u;
