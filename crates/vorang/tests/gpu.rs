@@ -930,3 +930,66 @@ fn many_knot_maps_match_the_cpu() {
         }
     }
 }
+
+/// Past the driver's loop limit (thousands of knots crossed along a ray on lavapipe) the march
+/// marks the pixels it could not finish, is its twin everywhere else, and the frame takes the
+/// marked pixels from the twin: still the CPU's image.
+#[test]
+fn marches_the_driver_cuts_short_are_redone_by_the_twin() {
+    let Some(g) = gpu() else { return };
+    let mut rng = SplitMix64(43);
+    let vol = Arc::new(carved([5, 5, 5], 0.1, 13, |_| rng.next_f64() > 0.05));
+    let mapping = many_knot_maps(&vol, "ABSORPTION_WEIGHTED", 4096, [-0.5, 1.5]);
+    let view = View {
+        transforms: vec![TransformOp::Rotate {
+            axis: [1.0, 0.3, 0.0],
+            degrees: 35.0,
+        }],
+        ..View::default()
+    };
+    let s = settings(48, Order::BackToFront, 1.0);
+    let data = frame::prepare(&vol, &mapping, &view, &s, g.exact_fma()).unwrap();
+    let image = g.march(&vol, &data).unwrap();
+    let cells: Vec<[u32; 4]> = vol
+        .mesh
+        .tets()
+        .iter()
+        .zip(vol.mesh.neighbors())
+        .flat_map(|(t, nb)| [*t, *nb])
+        .collect();
+    let b = Buffers {
+        mesh: &cells,
+        nodes: &data.nodes,
+        lists: &data.lists,
+        lines: &[],
+        consts: &data.consts,
+    };
+    let mut cut = 0;
+    for p in 0..s.width * s.height {
+        let got = &image[5 * p..5 * p + 5];
+        if got[4] == twin::LOOPS_CUT {
+            cut += 1;
+            continue;
+        }
+        let want = b.pixel((p % s.width) as u32, (p / s.width) as u32);
+        assert_eq!(
+            bits_equal(got, &want),
+            None,
+            "pixel {p}: {got:?} vs {want:?}"
+        );
+    }
+    eprintln!("{}: {cut} pixels cut short", g.name());
+    if g.name().contains("llvmpipe") {
+        assert!(cut > 0, "the scene reaches lavapipe's loop limit");
+    }
+    let (cpu, _) = render(&vol, &mapping, &view, &s, None).unwrap();
+    let (gpu, _) = g.render(&vol, &mapping, &view, &s).unwrap();
+    for (a, b) in cpu.pixels.iter().zip(&gpu.pixels) {
+        for k in 0..4 {
+            assert!(
+                (f64::from(a[k]) - f64::from(b[k])).abs() <= 1e-12,
+                "{a:?} vs {b:?}"
+            );
+        }
+    }
+}

@@ -163,6 +163,7 @@ pub fn prepare(
         GpuMethod::InterpolateColor => 2.0,
     };
     consts[slot::FANS] = fans as f64;
+    consts[slot::LOOP_CHECK] = 2.0;
     let planes = placed.projector.ray_planes();
     consts[slot::MAX_SPEED] = planes.max_speed;
     consts[slot::INFINITY] = f64::INFINITY;

@@ -430,9 +430,15 @@ pub mod slot {
     pub const ANY_NEAR: usize = 39;
     /// interpolateColor: where the cells' fans start in the nodes' numbers.
     pub const FANS: usize = 40;
+    /// 2: the iterations of `loops_ran`'s loop.
+    pub const LOOP_CHECK: usize = 41;
     /// The knots, then per piece `from, base[4], slope[4]`.
-    pub const TABLE: usize = 41;
+    pub const TABLE: usize = 42;
 }
+
+/// The cells a pixel's ray passed, as the march writes it where the driver ended its loops
+/// early (`loops_ran`): the pixel's colour is then not to be trusted.
+pub const LOOPS_CUT: f64 = -1.0;
 
 /// `EARLY_TERMINATION`, `NEGLIGIBLE`.
 const EARLY_TERMINATION: f64 = crate::render::EARLY_TERMINATION;
@@ -767,7 +773,14 @@ impl Buffers<'_> {
         [self.nodes[i], self.nodes[i + 1]]
     }
 
-    /// `march` for pixel (x, y): colour accumulated front to back, transparency, cells passed.
+    /// `loops_ran` (here every loop runs to its end: true).
+    fn loops_ran(&self) -> bool {
+        let trips = self.consts[slot::LOOP_CHECK] as u32;
+        (0..trips).count() as u32 == trips
+    }
+
+    /// `march` for pixel (x, y): colour accumulated front to back, transparency, cells passed
+    /// (−1 where the driver cut the loops, [`LOOPS_CUT`]).
     pub fn pixel(&self, x: u32, y: u32) -> [f64; 5] {
         let c = self.consts;
         let width = c[slot::WIDTH] as u32;
@@ -851,6 +864,11 @@ impl Buffers<'_> {
                 d_in = out[0];
             }
         }
-        [color[0], color[1], color[2], t, f64::from(steps)]
+        let steps = if self.loops_ran() {
+            f64::from(steps)
+        } else {
+            LOOPS_CUT
+        };
+        [color[0], color[1], color[2], t, steps]
     }
 }

@@ -55,7 +55,9 @@ const PART_ROWS: u32 = 38u;
 const ANY_NEAR: u32 = 39u;
 // interpolateColor: where the cells' fan codes start in `lists` (color.wgsl).
 const FANS: u32 = 40u;
-const TABLE: u32 = 41u;
+// 2: the iterations of the loop that checks the driver ran every loop to its end (loops_ran).
+const LOOP_CHECK: u32 = 41u;
+const TABLE: u32 = 42u;
 // A pixel's entry into a cell that reaches in front of the perspective near plane: the cell
 // number with this bit set (else 4·cell + face of a boundary face).
 const NEAR_ENTRY: u32 = 0x80000000u;
@@ -406,6 +408,23 @@ fn contribution(tet: vec4<u32>, line: Line, near: f64, far: f64, length: f64) ->
     return Contribution(c.b * consts[BRIGHTNESS], c.theta);
 }
 
+// The cells passed, written where the driver cut the loops (twin: LOOPS_CUT).
+const LOOPS_CUT: f64 = -1.0lf;
+
+// Whether every loop of this invocation ran to its end. lavapipe (llvmpipe's gallivm) counts
+// the iterations of all the loops of a batch of invocations together and, past 65535
+// (LP_MAX_TGSI_LOOP_ITERATIONS in Mesa), ends each loop after the iteration it is in, silently
+// (docs/gpu.md). A loop of consts[LOOP_CHECK] = 2 iterations, run last, then runs once; the
+// frame takes such pixels from the twin.
+fn loops_ran() -> bool {
+    let trips = u32(consts[LOOP_CHECK]);
+    var n = 0u;
+    for (var i = 0u; i < trips; i++) {
+        n++;
+    }
+    return n == trips;
+}
+
 @compute @workgroup_size(8, 8)
 fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
     let width = u32(consts[WIDTH]);
@@ -500,5 +519,5 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
     image[5u * pix + 1u] = color.y;
     image[5u * pix + 2u] = color.z;
     image[5u * pix + 3u] = t;
-    image[5u * pix + 4u] = f64(steps);
+    image[5u * pix + 4u] = select(LOOPS_CUT, f64(steps), loops_ran());
 }
