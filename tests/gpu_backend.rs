@@ -175,11 +175,40 @@ view
     );
 }
 
-/// Maps with more knots than the GPU backend renders are refused with a message, never drawn
-/// wrong (crates/vorang/src/gpu/frame.rs, MAX_KNOTS); as many as it renders are drawn.
+/// The numbers of a PFM image (`PF`/`Pf`, width height, scale: little-endian when negative).
+#[cfg(feature = "gpu")]
+fn pfm(path: &std::path::Path) -> Vec<f32> {
+    let bytes = std::fs::read(path).unwrap();
+    let mut at = 0;
+    let mut line = || {
+        let end = at + bytes[at..].iter().position(|&b| b == b'\n').unwrap();
+        let text = String::from_utf8(bytes[at..end].to_vec()).unwrap();
+        at = end + 1;
+        text
+    };
+    let (_, _, scale) = (line(), line(), line());
+    let little = scale.trim().parse::<f64>().unwrap() < 0.0;
+    bytes[at..]
+        .chunks_exact(4)
+        .map(|c| {
+            let b = [c[0], c[1], c[2], c[3]];
+            if little {
+                f32::from_le_bytes(b)
+            } else {
+                f32::from_be_bytes(b)
+            }
+        })
+        .collect()
+}
+
+/// Maps of many knots (256, emission weighted by absorption: a colormap sampled as
+/// `vorang.plot` samples one) on
+/// `examples/inclusion`, every method the GPU renders, both orders: the GPU's image is the
+/// CPU's. With 70 knots and more the GPU's image once differed by up to 0.9: lavapipe cut the
+/// march's loops short (docs/gpu.md).
 #[cfg(feature = "gpu")]
 #[test]
-fn maps_with_too_many_knots_are_refused_on_the_gpu() {
+fn maps_with_many_knots_give_the_cpus_image_on_the_gpu() {
     if Session::new().set_backend("gpu").is_err() {
         assert!(
             std::env::var("VORANG_GPU_TESTS").as_deref() != Ok("required"),
@@ -190,8 +219,17 @@ fn maps_with_too_many_knots_are_refused_on_the_gpu() {
     }
     let dir = tempfile::tempdir().unwrap();
     let volume = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("examples/inclusion/inclusion.vtu");
-    for (knots, refused) in [(64, false), (65, true)] {
-        let mut cmap = String::from("# VoRANG Colormap 1.0\nSIMPLE_EMITTER @1\n@1\n");
+    let methods = [
+        ("exact", "exact linear 0 1"),
+        ("coeff", "interpolateCoeff linear 1"),
+        ("color", "interpolateColor 1"),
+    ];
+    for (knots, colors) in [
+        (70, "SIMPLE_EMITTER"),
+        (256, "SIMPLE_EMITTER"),
+        (256, "ABSORPTION_WEIGHTED"),
+    ] {
+        let mut cmap = format!("# VoRANG Colormap 1.0\n{colors} @1\n@1\n");
         let mut amap = String::from("# VoRANG Alphamap 1.0\nSIMPLE_ABSORBER @1\n@1\n");
         for i in 0..knots {
             let t = i as f64 / (knots - 1) as f64;
@@ -201,10 +239,19 @@ fn maps_with_too_many_knots_are_refused_on_the_gpu() {
         }
         std::fs::write(dir.path().join("m.cmap"), cmap).unwrap();
         std::fs::write(dir.path().join("m.amap"), amap).unwrap();
-        let script = format!(
-            "imagesize 32 24\nvolume {}\ncolormap m.cmap\nalphamap m.amap\nlinedraw off\nview_all\nmethod exact linear 0 1\nbackend gpu\noutput out.pfm\nrender_btf\n",
+        let mut script = format!(
+            "imagesize 64 48\nvolume {{{}}}\ncolormap m.cmap\nalphamap m.amap\nlinedraw off\nview_all\n",
             volume.display()
         );
+        for (name, method) in methods {
+            for order in ["btf", "ftb"] {
+                for backend in ["cpu", "gpu"] {
+                    script += &format!(
+                        "method {method}\nbackend {backend}\noutput {backend}_{name}_{order}.pfm\nrender_{order}\n"
+                    );
+                }
+            }
+        }
         std::fs::write(dir.path().join("s.tcl"), script).unwrap();
         let out = std::process::Command::new(env!("CARGO_BIN_EXE_vorang"))
             .arg("s.tcl")
@@ -212,13 +259,27 @@ fn maps_with_too_many_knots_are_refused_on_the_gpu() {
             .env("XDG_RUNTIME_DIR", std::env::temp_dir())
             .output()
             .unwrap();
-        let text = String::from_utf8_lossy(&out.stderr).to_string()
-            + &String::from_utf8_lossy(&out.stdout);
-        if refused {
-            assert!(!out.status.success(), "{knots} knots: {text}");
-            assert!(text.contains("at most 64"), "{knots} knots: {text}");
-        } else {
-            assert!(out.status.success(), "{knots} knots: {text}");
+        assert!(
+            out.status.success(),
+            "{colors} {knots} knots: {}{}",
+            String::from_utf8_lossy(&out.stderr),
+            String::from_utf8_lossy(&out.stdout)
+        );
+        for (name, _) in methods {
+            for order in ["btf", "ftb"] {
+                let read = |b: &str| pfm(&dir.path().join(format!("{b}_{name}_{order}.0001.pfm")));
+                let (cpu, gpu) = (read("cpu"), read("gpu"));
+                assert_eq!(cpu.len(), gpu.len());
+                let (mut over, mut worst) = (0, 0.0f64);
+                for (a, b) in cpu.iter().zip(&gpu) {
+                    let d = (f64::from(*a) - f64::from(*b)).abs();
+                    over += usize::from(d > 1e-12);
+                    worst = worst.max(d);
+                }
+                let what = format!("{colors} {knots} knots {name} {order}");
+                eprintln!("{what}: {over} channels differ, largest {worst:e}");
+                assert!(over == 0, "{what}: {over} channels differ, up to {worst:e}");
+            }
         }
     }
 }

@@ -840,3 +840,156 @@ fn constant_maps_without_a_field_match_the_cpu() {
         }
     }
 }
+
+/// Maps of `knots` knots evenly spaced in `[lo, hi]` (`colors`: SIMPLE_EMITTER or
+/// ABSORPTION_WEIGHTED; SIMPLE_ABSORBER), as `vorang.plot` makes from a sampled colormap.
+fn many_knot_maps(
+    vol: &Volume,
+    colors: &str,
+    knots: usize,
+    [lo, hi]: [f64; 2],
+) -> vorang::mapping::Mapping {
+    use vorang::mapping::{AlphaShading, ColorShading, Mapping, parse_map};
+    let mut c = format!("# VoRANG Colormap 1.0\n{colors} @1\n@1\n");
+    let mut a = String::from("# VoRANG Alphamap 1.0\nSIMPLE_ABSORBER @1\n@1\n");
+    for i in 0..knots {
+        let t = i as f64 / (knots - 1) as f64;
+        let s = lo + (hi - lo) * t;
+        c += &format!("{t} {} 0.5 {s}\n", 1.0 - t);
+        a += &format!("{} {s}\n", 0.5 + 3.0 * t * t);
+    }
+    let c = parse_map::<dyn ColorShading>(c.as_bytes(), "c").unwrap().0;
+    let a = parse_map::<dyn AlphaShading>(a.as_bytes(), "a").unwrap().0;
+    Mapping::new(&c, &a, vol).unwrap().0
+}
+
+/// The twin's bisections count the knots as the CPU's table does (`Transfer1D::piece`, and
+/// `knots_between` from the knots below its upper end), on and between knots.
+#[test]
+fn knot_lookups_are_the_cpus() {
+    let vol = carved([2, 2, 2], 0.0, 1, |_| true);
+    for knots in [2, 3, 64, 257] {
+        let mapping = many_knot_maps(&vol, "SIMPLE_EMITTER", knots, [-0.5, 1.5]);
+        let transfer = mapping.transfer(&vol).unwrap();
+        let mut consts = vec![0.0; twin::slot::TABLE];
+        consts[twin::slot::KNOTS] = transfer.knot_count() as f64;
+        consts.extend(transfer.flat());
+        let b = Buffers {
+            mesh: &[],
+            nodes: &[],
+            lists: &[],
+            lines: &[],
+            consts: &consts,
+        };
+        let knot = |i: usize| consts[twin::slot::TABLE + i];
+        let mut rng = SplitMix64(3);
+        for i in 0..4000 {
+            let s = match i % 4 {
+                0 => knot(i / 4 % knots),
+                1 => f64::from_bits(knot(i / 4 % knots).to_bits() + 1),
+                _ => 2.5 * rng.next_f64() - 0.75,
+            };
+            assert_eq!(b.piece_of(s), transfer.piece(s), "{knots} knots, {s}");
+            let between = transfer.knots_between(-0.6, s).len();
+            if s > -0.6 {
+                assert_eq!(b.knots_below(s) - b.piece_of(-0.6), between, "{s}");
+            }
+        }
+        assert_eq!(b.piece_of(f64::NAN), transfer.piece(f64::NAN));
+    }
+}
+
+/// Maps of 70 to 256 knots on a jittered, holed box: many knots cut each cell's interval.
+/// The march is its twin bit for bit and the CPU's image in every method and order (with a
+/// count over every knot per lookup, lavapipe's limit on a shader's loop iterations cut these
+/// marches short, docs/gpu.md).
+#[test]
+fn many_knot_maps_match_the_cpu() {
+    let Some(g) = gpu() else { return };
+    let mut rng = SplitMix64(41);
+    let volume = carved([5, 5, 5], 0.1, 13, |_| rng.next_f64() > 0.05);
+    let scene = accuracy::Scene {
+        name: "many knots",
+        what: "",
+        mapping: accuracy::scalar_maps(&volume),
+        volume,
+    };
+    let vol = Arc::new(scene.volume.clone());
+    let (view_name, view) = accuracy::views(&scene).swap_remove(0);
+    for colors in ["SIMPLE_EMITTER", "ABSORPTION_WEIGHTED"] {
+        for knots in [70, 97, 128, 256] {
+            let mapping = many_knot_maps(&vol, colors, knots, [-0.5, 1.5]);
+            for order in [Order::BackToFront, Order::FrontToBack] {
+                for method in METHODS {
+                    let s = with_method(48, order, method);
+                    let what = format!("{colors} {knots} knots {view_name} {order:?} {method}");
+                    let d = compare(g, &vol, &mapping, &view, &s, &what);
+                    eprintln!("{what}: largest difference {d:e}");
+                }
+            }
+        }
+    }
+}
+
+/// Past the driver's loop limit (thousands of knots crossed along a ray on lavapipe) the march
+/// marks the pixels it could not finish, is its twin everywhere else, and the frame takes the
+/// marked pixels from the twin: still the CPU's image.
+#[test]
+fn marches_the_driver_cuts_short_are_redone_by_the_twin() {
+    let Some(g) = gpu() else { return };
+    let mut rng = SplitMix64(43);
+    let vol = Arc::new(carved([5, 5, 5], 0.1, 13, |_| rng.next_f64() > 0.05));
+    let mapping = many_knot_maps(&vol, "ABSORPTION_WEIGHTED", 4096, [-0.5, 1.5]);
+    let view = View {
+        transforms: vec![TransformOp::Rotate {
+            axis: [1.0, 0.3, 0.0],
+            degrees: 35.0,
+        }],
+        ..View::default()
+    };
+    let s = settings(48, Order::BackToFront, 1.0);
+    let data = frame::prepare(&vol, &mapping, &view, &s, g.exact_fma()).unwrap();
+    let image = g.march(&vol, &data).unwrap();
+    let cells: Vec<[u32; 4]> = vol
+        .mesh
+        .tets()
+        .iter()
+        .zip(vol.mesh.neighbors())
+        .flat_map(|(t, nb)| [*t, *nb])
+        .collect();
+    let b = Buffers {
+        mesh: &cells,
+        nodes: &data.nodes,
+        lists: &data.lists,
+        lines: &[],
+        consts: &data.consts,
+    };
+    let mut cut = 0;
+    for p in 0..s.width * s.height {
+        let got = &image[5 * p..5 * p + 5];
+        if got[4] == twin::LOOPS_CUT {
+            cut += 1;
+            continue;
+        }
+        let want = b.pixel((p % s.width) as u32, (p / s.width) as u32);
+        assert_eq!(
+            bits_equal(got, &want),
+            None,
+            "pixel {p}: {got:?} vs {want:?}"
+        );
+    }
+    eprintln!("{}: {cut} pixels cut short", g.name());
+    if g.name().contains("llvmpipe") {
+        assert!(cut > 0, "the scene reaches lavapipe's loop limit");
+    }
+    let (cpu, _) = render(&vol, &mapping, &view, &s, None).unwrap();
+    let (gpu, _) = g.render(&vol, &mapping, &view, &s).unwrap();
+    for (a, b) in cpu.pixels.iter().zip(&gpu.pixels) {
+        for k in 0..4 {
+            assert!(
+                (f64::from(a[k]) - f64::from(b[k])).abs() <= 1e-12,
+                "{a:?} vs {b:?}"
+            );
+        }
+    }
+}

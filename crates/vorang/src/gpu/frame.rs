@@ -70,22 +70,10 @@ pub fn check_mapping(mapping: &Mapping, vol: &Volume) -> Result<Transfer1D, Stri
                 .into(),
         );
     }
-    let transfer = mapping.transfer(vol).ok_or_else(|| {
+    mapping.transfer(vol).ok_or_else(|| {
         "the GPU backend renders maps of one scalar Linear field (SIMPLE_EMITTER, ABSORPTION_WEIGHTED or CONSTANT colours; SIMPLE_ABSORBER or CONSTANT absorption; no categories); use 'backend cpu' for these maps".to_string()
-    })?;
-    if transfer.knot_count() > MAX_KNOTS {
-        return Err(format!(
-            "the maps have {} knots together; the GPU backend renders at most {MAX_KNOTS} (with more its image was seen to differ from the CPU's, docs/gpu.md); use 'backend cpu' or fewer knots",
-            transfer.knot_count()
-        ));
-    }
-    Ok(transfer)
+    })
 }
-
-/// The most knots (colour and absorption maps merged) the GPU renders: with 70 and more, its
-/// image differed from the CPU's on lavapipe (up to 0.03 at 70 knots, 0.35 at 97); up to 64
-/// it matched bit for bit. Refused rather than drawn wrong until the cause is found.
-pub const MAX_KNOTS: usize = 64;
 
 /// The march's inputs for one frame (the buffers of `march.wgsl` but the mesh).
 pub struct FrameData {
@@ -175,6 +163,7 @@ pub fn prepare(
         GpuMethod::InterpolateColor => 2.0,
     };
     consts[slot::FANS] = fans as f64;
+    consts[slot::LOOP_CHECK] = 2.0;
     let planes = placed.projector.ray_planes();
     consts[slot::MAX_SPEED] = planes.max_speed;
     consts[slot::INFINITY] = f64::INFINITY;

@@ -20,6 +20,12 @@
 //! ([`twin`]); the GPU tests hold them bit-identical on lavapipe, and hold the images to the
 //! CPU renderer's within 1e-12 per channel.
 //!
+//! lavapipe ends every loop of a batch of invocations once all of them together have run 65535
+//! iterations: the march finds the transfer function's pieces by bisection and visits only
+//! the knots a cell's interval crosses, which keeps the frames tested (up to 256 knots) well
+//! inside that; a pixel the driver cut short anyway is marked by the march and marched again
+//! by the twin on the CPU (docs/gpu.md).
+//!
 //! Memory: per cell its four nodes and four neighbours (32 bytes, uploaded once per mesh: the
 //! time steps of a series that share a mesh share the upload; split across up to
 //! [`MESH_PARTS`] bindings), per node seven f64 per frame (ten for interpolateCoeff), for
@@ -326,11 +332,7 @@ impl Gpu {
             return Ok((u.parts.clone(), u.rows));
         }
         let mesh = &vol.mesh;
-        let mut cells: Vec<[u32; 4]> = Vec::with_capacity(2 * mesh.tet_count());
-        for (t, nb) in mesh.tets().iter().zip(mesh.neighbors()) {
-            cells.push(*t);
-            cells.push(*nb);
-        }
+        let cells = cell_rows(mesh);
         // 16 bytes a row.
         let rows = usize::try_from(limit / 16).unwrap_or(usize::MAX).max(1);
         let parts = cells.len().div_ceil(rows).max(1);
@@ -376,7 +378,8 @@ impl Gpu {
         self.mesh_of(vol).map_err(Error::Invalid)?;
         let upload = uploading.elapsed();
         let drawing = std::time::Instant::now();
-        let image = self.march(vol, &data).map_err(Error::Invalid)?;
+        let mut image = self.march(vol, &data).map_err(Error::Invalid)?;
+        redo_cut_pixels(vol, &data, &mut image);
         let segments: f64 = image.chunks(5).map(|p| p[4]).sum();
         let fb = frame::finish(&data, &image, settings)?;
         let non_finite = fb
@@ -414,7 +417,9 @@ impl Gpu {
         Ok((fb, stats))
     }
 
-    /// The march over every pixel: colour and transparency per pixel.
+    /// The march over every pixel: colour, transparency and the cells passed per pixel
+    /// ([`twin::LOOPS_CUT`] where the driver cut the pixel's loops short; [`Gpu::render`]
+    /// marches those again with the twin).
     pub fn march(&self, vol: &Arc<Volume>, data: &frame::FrameData) -> Result<Vec<f64>, String> {
         let (mesh, rows) = self.mesh_of(vol)?;
         let limit = self.binding_limit();
@@ -473,6 +478,46 @@ impl Gpu {
             data.height.div_ceil(8) as u32,
         ];
         self.dispatch(&self.march.pipeline, &group, groups, &image, size)
+    }
+}
+
+/// The mesh as the march reads it: per cell its nodes, then its neighbours.
+fn cell_rows(mesh: &TetMesh) -> Vec<[u32; 4]> {
+    let mut cells = Vec::with_capacity(2 * mesh.tet_count());
+    for (t, nb) in mesh.tets().iter().zip(mesh.neighbors()) {
+        cells.push(*t);
+        cells.push(*nb);
+    }
+    cells
+}
+
+/// The pixels whose march the driver cut short ([`twin::LOOPS_CUT`]: lavapipe ends every loop
+/// of a batch of invocations once they have run 65535 iterations together, docs/gpu.md)
+/// marched again by the twin on the CPU: the same operations in the same order, so the bits
+/// the march would have written.
+fn redo_cut_pixels(vol: &Volume, data: &frame::FrameData, image: &mut [f64]) {
+    use rayon::prelude::*;
+    let cut: Vec<usize> = (0..data.width * data.height)
+        .filter(|&p| image[5 * p + 4] == twin::LOOPS_CUT)
+        .collect();
+    if cut.is_empty() {
+        return;
+    }
+    let cells = cell_rows(&vol.mesh);
+    let b = twin::Buffers {
+        mesh: &cells,
+        nodes: &data.nodes,
+        lists: &data.lists,
+        lines: data.lines.as_deref().unwrap_or(&[]),
+        consts: &data.consts,
+    };
+    let width = data.width;
+    let redone: Vec<[f64; 5]> = cut
+        .par_iter()
+        .map(|&p| b.pixel((p % width) as u32, (p / width) as u32))
+        .collect();
+    for (&p, r) in cut.iter().zip(redone) {
+        image[5 * p..5 * p + 5].copy_from_slice(&r);
     }
 }
 

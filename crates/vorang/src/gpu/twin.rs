@@ -430,9 +430,15 @@ pub mod slot {
     pub const ANY_NEAR: usize = 39;
     /// interpolateColor: where the cells' fans start in the nodes' numbers.
     pub const FANS: usize = 40;
+    /// 2: the iterations of `loops_ran`'s loop.
+    pub const LOOP_CHECK: usize = 41;
     /// The knots, then per piece `from, base[4], slope[4]`.
-    pub const TABLE: usize = 41;
+    pub const TABLE: usize = 42;
 }
+
+/// The cells a pixel's ray passed, as the march writes it where the driver ended its loops
+/// early (`loops_ran`): the pixel's colour is then not to be trusted.
+pub const LOOPS_CUT: f64 = -1.0;
 
 /// `EARLY_TERMINATION`, `NEGLIGIBLE`.
 const EARLY_TERMINATION: f64 = crate::render::EARLY_TERMINATION;
@@ -464,11 +470,32 @@ impl Buffers<'_> {
         self.consts[slot::TABLE + i]
     }
 
-    /// `piece_of`.
-    fn piece_of(&self, s: f64) -> usize {
-        (0..self.knot_count())
-            .filter(|&i| self.knot(i) <= s)
-            .count()
+    /// `piece_of`: the number of knots `≤ s`, by bisection.
+    pub fn piece_of(&self, s: f64) -> usize {
+        let (mut lo, mut hi) = (0, self.knot_count());
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if self.knot(mid) <= s {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
+    }
+
+    /// `knots_below`: the number of knots `< s`, by bisection.
+    pub fn knots_below(&self, s: f64) -> usize {
+        let (mut lo, mut hi) = (0, self.knot_count());
+        while lo < hi {
+            let mid = lo + (hi - lo) / 2;
+            if self.knot(mid) < s {
+                lo = mid + 1;
+            } else {
+                hi = mid;
+            }
+        }
+        lo
     }
 
     /// `eval_in`.
@@ -549,16 +576,18 @@ impl Buffers<'_> {
         if self.piece_of(s_near) == p {
             acc = self.piece(0.0, 1.0, p, s_far, s_near, length);
         } else {
-            let (lo, hi) = (s_far.min(s_near), s_far.max(s_near));
-            let k = self.knot_count();
+            let rising = s_near > s_far;
+            let (lo, hi) = if rising {
+                (s_far, s_near)
+            } else {
+                (s_near, s_far)
+            };
+            let first = self.piece_of(lo);
+            let last = self.knots_below(hi).max(first);
             let mut prev = 0.0;
-            for j in 0..k {
-                let i = if s_near > s_far { j } else { k - 1 - j };
-                let x = self.knot(i);
-                if !(x > lo && x < hi) {
-                    continue;
-                }
-                let u = (x - s_far) / (s_near - s_far);
+            for j in 0..last - first {
+                let i = if rising { first + j } else { last - 1 - j };
+                let u = (self.knot(i) - s_far) / (s_near - s_far);
                 if u > prev {
                     acc = accumulate(acc, self.piece_between(prev, u, s_far, s_near, length));
                     prev = u;
@@ -744,7 +773,14 @@ impl Buffers<'_> {
         [self.nodes[i], self.nodes[i + 1]]
     }
 
-    /// `march` for pixel (x, y): colour accumulated front to back, transparency, cells passed.
+    /// `loops_ran` (here every loop runs to its end: true).
+    fn loops_ran(&self) -> bool {
+        let trips = self.consts[slot::LOOP_CHECK] as u32;
+        (0..trips).count() as u32 == trips
+    }
+
+    /// `march` for pixel (x, y): colour accumulated front to back, transparency, cells passed
+    /// (−1 where the driver cut the loops, [`LOOPS_CUT`]).
     pub fn pixel(&self, x: u32, y: u32) -> [f64; 5] {
         let c = self.consts;
         let width = c[slot::WIDTH] as u32;
@@ -828,6 +864,11 @@ impl Buffers<'_> {
                 d_in = out[0];
             }
         }
-        [color[0], color[1], color[2], t, f64::from(steps)]
+        let steps = if self.loops_ran() {
+            f64::from(steps)
+        } else {
+            LOOPS_CUT
+        };
+        [color[0], color[1], color[2], t, steps]
     }
 }

@@ -55,7 +55,9 @@ const PART_ROWS: u32 = 38u;
 const ANY_NEAR: u32 = 39u;
 // interpolateColor: where the cells' fan codes start in `lists` (color.wgsl).
 const FANS: u32 = 40u;
-const TABLE: u32 = 41u;
+// 2: the iterations of the loop that checks the driver ran every loop to its end (loops_ran).
+const LOOP_CHECK: u32 = 41u;
+const TABLE: u32 = 42u;
 // A pixel's entry into a cell that reaches in front of the perspective near plane: the cell
 // number with this bit set (else 4·cell + face of a boundary face).
 const NEAR_ENTRY: u32 = 0x80000000u;
@@ -103,15 +105,37 @@ fn knot(i: u32) -> f64 {
     return consts[TABLE + i];
 }
 
-// The piece of the table holding s: the number of knots ≤ s.
+// The piece of the table holding s: the number of knots ≤ s (Transfer1D::piece), by bisection
+// of the increasing knots. A count over every knot would cost each lookup as many loop
+// iterations as the table has knots, and lavapipe ends the loops of a batch of invocations
+// that run too many of them all together (docs/gpu.md).
 fn piece_of(s: f64) -> u32 {
-    var n = 0u;
-    for (var i = 0u; i < knot_count(); i++) {
-        if (knot(i) <= s) {
-            n++;
+    var lo = 0u;
+    var hi = knot_count();
+    while (lo < hi) {
+        let mid = lo + (hi - lo) / 2u;
+        if (knot(mid) <= s) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
         }
     }
-    return n;
+    return lo;
+}
+
+// The number of knots < s, by bisection.
+fn knots_below(s: f64) -> u32 {
+    var lo = 0u;
+    var hi = knot_count();
+    while (lo < hi) {
+        let mid = lo + (hi - lo) / 2u;
+        if (knot(mid) < s) {
+            lo = mid + 1u;
+        } else {
+            hi = mid;
+        }
+    }
+    return lo;
 }
 
 // (η, χ) at s with the formula of piece p (Transfer1D::eval_in).
@@ -159,25 +183,24 @@ fn piece_between(u0: f64, u1: f64, s_far: f64, s_near: f64, length: f64) -> Cont
 }
 
 // A cell's (b, θ) for `exact linear 0` (Exact::transfer_pixel): cut where the field crosses a
-// knot, each piece integrated exactly, far to near; b times the brightness.
+// knot, each piece integrated exactly, far to near; b times the brightness. Only the knots
+// strictly between the ends are visited (Transfer1D::knots_between: first .. last).
 fn cell_contribution(s_far: f64, s_near: f64, length: f64) -> Contribution {
     var acc = Contribution(vec3<f64>(0.0lf, 0.0lf, 0.0lf), 1.0lf);
     let p = piece_of(s_far);
     if (piece_of(s_near) == p) {
         acc = piece(0.0lf, 1.0lf, p, s_far, s_near, length);
     } else {
-        let lo = min(s_far, s_near);
-        let hi = max(s_far, s_near);
-        let k = knot_count();
+        let rising = s_near > s_far;
+        let lo = select(s_near, s_far, rising);
+        let hi = select(s_far, s_near, rising);
+        let first = piece_of(lo);
+        let last = max(knots_below(hi), first);
         var prev = 0.0lf;
-        for (var j = 0u; j < k; j++) {
-            // Knots strictly between the ends, in the order the ray meets them from the far end.
-            let i = select(k - 1u - j, j, s_near > s_far);
-            let x = knot(i);
-            if (!(x > lo && x < hi)) {
-                continue;
-            }
-            let u = (x - s_far) / (s_near - s_far);
+        for (var j = 0u; j < last - first; j++) {
+            // In the order the ray meets them from the far end.
+            let i = select(last - 1u - j, first + j, rising);
+            let u = (knot(i) - s_far) / (s_near - s_far);
             if (u > prev) {
                 acc = accumulate(acc, piece_between(prev, u, s_far, s_near, length));
                 prev = u;
@@ -385,6 +408,23 @@ fn contribution(tet: vec4<u32>, line: Line, near: f64, far: f64, length: f64) ->
     return Contribution(c.b * consts[BRIGHTNESS], c.theta);
 }
 
+// The cells passed, written where the driver cut the loops (twin: LOOPS_CUT).
+const LOOPS_CUT: f64 = -1.0lf;
+
+// Whether every loop of this invocation ran to its end. lavapipe (llvmpipe's gallivm) counts
+// the iterations of all the loops of a batch of invocations together and, past 65535
+// (LP_MAX_TGSI_LOOP_ITERATIONS in Mesa), ends each loop after the iteration it is in, silently
+// (docs/gpu.md). A loop of consts[LOOP_CHECK] = 2 iterations, run last, then runs once; the
+// frame takes such pixels from the twin.
+fn loops_ran() -> bool {
+    let trips = u32(consts[LOOP_CHECK]);
+    var n = 0u;
+    for (var i = 0u; i < trips; i++) {
+        n++;
+    }
+    return n == trips;
+}
+
 @compute @workgroup_size(8, 8)
 fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
     let width = u32(consts[WIDTH]);
@@ -479,5 +519,5 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
     image[5u * pix + 1u] = color.y;
     image[5u * pix + 2u] = color.z;
     image[5u * pix + 3u] = t;
-    image[5u * pix + 4u] = f64(steps);
+    image[5u * pix + 4u] = select(LOOPS_CUT, f64(steps), loops_ran());
 }
