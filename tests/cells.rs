@@ -1,5 +1,6 @@
 //! Cells beyond tetrahedra, in files the tools users use wrote (VTK, dolfinx-style, meshio):
-//! Lagrange cells (VTK 71–74) of every degree, voxels (11) and polyhedra (42, both XML
+//! Lagrange cells (VTK 71–74) of every degree, VTK's quadratic hexahedra, wedges and pyramids
+//! (25–27, as Lagrange cells), voxels (11) and polyhedra (42, both XML
 //! layouts and legacy `.vtk`). A degree-2 file whose field is linear renders bit for bit like
 //! the degree-1 file (so a wrong node order cannot pass); nodes of every degree sit where VTK
 //! puts them; polyhedra split conformingly and render like the same cubes as hexahedra;
@@ -168,6 +169,85 @@ fn a_p2_file_with_a_linear_field_renders_exactly_like_the_p1_file() {
         &render(&data("lagrange_p1.vtu"), VIEWS[2]),
     );
     assert!(d > 1e-3, "a wrong node order renders alike ({d})");
+}
+
+/// VTK's quadratic hexahedra, wedges and pyramid (serendipity cells, types 25–27) are the
+/// Lagrange cells through their face and cell centres: the same curved cells written as
+/// Lagrange cells (72–74) whose centres VTK's own serendipity interpolation placed and filled
+/// (`generate.py serendipity`) render alike, to rounding (VoRANG sums the weights in its own
+/// order). Read by their corners only, they would not.
+#[test]
+fn serendipity_cells_render_like_the_lagrange_cells_vtk_fills() {
+    assert_renders_alike(
+        &data("serendipity.vtu"),
+        &data("serendipity_lagrange.vtu"),
+        1e-5,
+    );
+    let (vol, warnings) = load("serendipity.vtu");
+    assert!(
+        !warnings.iter().any(|w| w.message.contains("skipped")),
+        "{warnings:?}"
+    );
+    assert_eq!(
+        vol.field(0).unwrap().interpolator,
+        Interpolator::HigherOrder
+    );
+    // The faces two cells share have one centre: as many points as the Lagrange file.
+    let (lagrange, _) = load("serendipity_lagrange.vtu");
+    assert_eq!(vol.mesh.node_count(), lagrange.mesh.node_count());
+    // The corners only: another image.
+    let bytes = std::fs::read(data("serendipity.vtu")).unwrap();
+    let mut desc = formats::read_description(&bytes, "corners.vtu").unwrap();
+    let mut corners = formats::Cells::default();
+    for i in 0..desc.cells.len() {
+        let (ty, n) = match desc.cells.types[i] {
+            25 => (12, 8),
+            26 => (13, 6),
+            _ => (14, 5),
+        };
+        let nodes: Vec<u64> = desc.cells.nodes(i)[..n]
+            .iter()
+            .map(|&v| u64::from(v))
+            .collect();
+        corners.push(ty, &nodes);
+    }
+    desc.cells = corners;
+    let (linear, _) = build::volume(desc).unwrap();
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("corners.vtu");
+    formats::save_volume(&linear, &out, Default::default()).unwrap();
+    let d = largest_difference(
+        &render(&out, VIEWS[1]),
+        &render(&data("serendipity.vtu"), VIEWS[1]),
+    );
+    assert!(d > 1e-3, "the corners alone render alike ({d})");
+}
+
+/// Gmsh's second-order hexahedra and prisms (20 and 27 nodes, 15 and 18: Gmsh's own node
+/// order, curved cells, a field from a Gmsh view) render as the same cells in VTK's order,
+/// where `generate.py serendipity` found each node by its place.
+#[test]
+fn gmsh_second_order_hexahedra_and_prisms_are_vtks_cells() {
+    for name in ["gmsh_hex20", "gmsh_hex27", "gmsh_prism15", "gmsh_prism18"] {
+        let (vol, warnings) = load(&format!("{name}.msh"));
+        assert!(
+            !warnings
+                .iter()
+                .any(|w| w.message.contains("quadratic hexahedron")
+                    || w.message.contains("quadratic wedge")),
+            "{name}: {warnings:?}"
+        );
+        assert!(vol.mesh.tet_count() > 0);
+        let (msh, vtu) = (
+            render(&data(&format!("{name}.msh")), VIEWS[1]),
+            render(&data(&format!("{name}.vtu")), VIEWS[1]),
+        );
+        assert!(
+            msh.iter().any(|&v| v < 0.9),
+            "{name}: the volume is visible"
+        );
+        assert_eq!(largest_difference(&msh, &vtu), 0.0, "{name}");
+    }
 }
 
 #[test]

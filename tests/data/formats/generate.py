@@ -752,7 +752,201 @@ def write_polyhedra_prisms():
     vtk_write("polyhedra_prisms.vtu", vtk_grid(pts, cells, {"f": f}), ascii=True)
 
 
+def write_serendipity():
+    """VTK's quadratic hexahedra, wedges and a pyramid (25, 26, 27) on curved cells, and the
+    same cells as Lagrange cells (72, 73, 74) whose face and cell centres VTK itself places
+    and fills: its own serendipity interpolation (EvaluateLocation's weights) at those
+    parametric points. Two hexahedra share a face, the two wedges a quadrilateral face."""
+    import vtk
+
+    def warp(p):
+        x, y, z = p
+        return [x + 0.08 * np.sin(2 * y + z), y + 0.04 * np.cos(x + z), z + 0.04 * np.sin(x + 2 * y)]
+
+    def f_of(p):
+        x, y, z = p
+        return np.sin(1.3 * x) + y * y * z + 0.5 * np.cos(2.0 * z)
+
+    index, pts = {}, []
+
+    def node(p):
+        key = tuple(round(c * 2) for c in p)
+        if key not in index:
+            index[key] = len(pts)
+            pts.append(warp(p))
+        return index[key]
+
+    def pcoords(cls, n):
+        c = cls()
+        pc = c.GetParametricCoords()
+        return [pc[3 * i:3 * i + 3] for i in range(n)]
+
+    cells = []
+    hex_pc = pcoords(vtk.vtkQuadraticHexahedron, 20)
+    for x0 in (0.0, 1.0):
+        cells.append((25, [node((x0 + r, s_, t)) for r, s_, t in hex_pc]))
+    wedge_pc = pcoords(vtk.vtkQuadraticWedge, 15)
+    for flip in (False, True):
+        ids = []
+        for r, s_, t in wedge_pc:
+            x, y = (1 - s_, 1 - r) if flip else (r, s_)
+            ids.append(node((3.0 + x, y, t)))
+        if flip:
+            # The mirrored wedge's nodes in VTK's order of its own corners.
+            ids = [ids[k] for k in (1, 0, 2, 4, 3, 5, 6, 8, 7, 9, 11, 10, 13, 12, 14)]
+        cells.append((26, ids))
+    pyr_pc = pcoords(vtk.vtkQuadraticPyramid, 13)
+    # VTK places the apex edges' nodes at (x, y, 0.5) of the corner; in space they are the
+    # midpoints of the edges to the apex.
+    base = [(0, 0), (1, 0), (1, 1), (0, 1)]
+    pyr = [node((5.0 + x, y, 0.0)) for x, y in base] + [node((5.5, 0.5, 1.0))]
+    for a, b in [(0, 1), (1, 2), (2, 3), (3, 0)]:
+        (xa, ya), (xb, yb) = base[a], base[b]
+        pyr.append(node((5.0 + (xa + xb) / 2, (ya + yb) / 2, 0.0)))
+    for x, y in base:
+        pyr.append(node((5.0 + (x + 0.5) / 2, (y + 0.5) / 2, 0.5)))
+    cells.append((27, pyr))
+    f = np.array([f_of(p) for p in pts])
+    grid = vtk_grid(pts, cells, {"f": f})
+    vtk_write("serendipity.vtu", grid, ascii=True)
+
+    # The Lagrange cells: VTK's serendipity cells evaluated at the missing lattice points.
+    lag_pts, lag_f = [list(p) for p in pts], list(f)
+    centres = {}
+    lagrange = []
+    lag_pc = {72: pcoords_lagrange(vtk.vtkLagrangeHexahedron, 27),
+              73: pcoords_lagrange(vtk.vtkLagrangeWedge, 18)}
+    for c, (ty, ids) in enumerate(cells):
+        cell = grid.GetCell(c)
+        own = {25: hex_pc, 26: wedge_pc, 27: pyr_pc}[ty]
+        at = {tuple(round(v * 2) for v in q): ids[k] for k, q in enumerate(own)}
+        n = len(ids)
+
+        def centre(q, corners):
+            key = tuple(sorted(corners))
+            if key in centres:
+                return centres[key]
+            x = [0.0, 0.0, 0.0]
+            w = [0.0] * n
+            cell.EvaluateLocation(vtk.mutable(0), list(q), x, w)
+            centres[key] = len(lag_pts)
+            lag_pts.append(x)
+            lag_f.append(sum(wk * f[ids[k]] for k, wk in enumerate(w)))
+            return centres[key]
+
+        if ty == 27:
+            conn = ids + [centre((0.5, 0.5, 0.0), ids[:4])]
+            lagrange.append((74, conn))
+            continue
+        lty = {25: 72, 26: 73}[ty]
+        conn = []
+        for q in lag_pc[lty]:
+            key = tuple(round(v * 2) for v in q)
+            if key in at:
+                conn.append(at[key])
+            else:
+                corners = own[:8 if ty == 25 else 6]
+                if ty == 26 and abs(q[0] + q[1] - 1) < 1e-9:
+                    # The wedge's slanted face r + s = 1.
+                    on = [ids[k] for k, p in enumerate(corners) if abs(p[0] + p[1] - 1) < 1e-9]
+                else:
+                    on = [ids[k] for k, p in enumerate(corners)
+                          if all(abs(p[d] - q[d]) < 1e-9 for d in range(3) if round(q[d] * 2) != 1)]
+                conn.append(centre(q, on if len(on) == 4 else ids[:8] + [-c - 1]))
+        lagrange.append((lty, conn))
+    vtk_write("serendipity_lagrange.vtu",
+              vtk_grid(lag_pts, lagrange, {"f": np.array(lag_f)}), ascii=True)
+
+
+def write_gmsh_second_order():
+    """Second-order hexahedra and prisms meshed by Gmsh (20- and 27-node hexahedra, 15- and
+    18-node prisms, in Gmsh's own node order), a point field `f` added as a Gmsh view; and the
+    same cells in VTK's order (`.vtu`, by VTK), each VTK node found by its place: VTK's
+    parametric coordinates of the node, mapped by the (straight) cell's corners, matched to the
+    Gmsh node there. Then every node moves by a smooth map (curved cells), so a node in the
+    wrong place changes the image."""
+    import gmsh
+    import vtk
+
+    def f_of(x, y, z):
+        return np.sin(1.3 * x) + y * y * z + 0.5 * np.cos(2.0 * z)
+
+    for name, prisms, incomplete in (("gmsh_hex20", False, 1), ("gmsh_hex27", False, 0),
+                                     ("gmsh_prism15", True, 1), ("gmsh_prism18", True, 0)):
+        gmsh.initialize()
+        gmsh.option.setNumber("General.Terminal", 0)
+        gmsh.model.add(name)
+        if prisms:
+            gmsh.model.occ.addRectangle(0, 0, 0, 2, 1)
+            gmsh.model.occ.synchronize()
+            gmsh.option.setNumber("Mesh.MeshSizeMin", 0.6)
+            gmsh.option.setNumber("Mesh.MeshSizeMax", 0.8)
+            gmsh.model.occ.extrude([(2, 1)], 0, 0, 1, numElements=[2], recombine=True)
+        else:
+            gmsh.model.occ.addBox(0, 0, 0, 2, 1, 1)
+            gmsh.model.occ.synchronize()
+            for c in gmsh.model.getEntities(1):
+                gmsh.model.mesh.setTransfiniteCurve(c[1], 3)
+            for sfc in gmsh.model.getEntities(2):
+                gmsh.model.mesh.setTransfiniteSurface(sfc[1])
+                gmsh.model.mesh.setRecombine(2, sfc[1])
+            gmsh.model.mesh.setTransfiniteVolume(1)
+        gmsh.model.occ.synchronize()
+        gmsh.option.setNumber("Mesh.SecondOrderIncomplete", incomplete)
+        gmsh.model.mesh.generate(3)
+        gmsh.model.mesh.setOrder(2)
+        tags, coords, _ = gmsh.model.mesh.getNodes()
+        coords = coords.reshape(-1, 3)
+        at = {int(t): k for k, t in enumerate(tags)}
+        cells = []
+        for ety, _, enodes in zip(*gmsh.model.mesh.getElements(3)):
+            _, _, _, n, _, _ = gmsh.model.mesh.getElementProperties(ety)
+            cls, vty, corners = {20: (vtk.vtkQuadraticHexahedron, 25, 8),
+                                 27: (vtk.vtkTriQuadraticHexahedron, 29, 8),
+                                 15: (vtk.vtkQuadraticWedge, 26, 6),
+                                 18: (vtk.vtkBiQuadraticQuadraticWedge, 32, 6)}[n]
+            pc = cls().GetParametricCoords()
+            for e in np.array(enodes, dtype=int).reshape(-1, n):
+                own = [at[t] for t in e]
+                c = coords[own[:corners]]
+                conn = []
+                for k in range(n):
+                    r, s_, t = pc[3 * k:3 * k + 3]
+                    if corners == 8:
+                        w = [(1 - r if i in (0, 3, 4, 7) else r) * (1 - s_ if i in (0, 1, 4, 5) else s_)
+                             * (1 - t if i < 4 else t) for i in range(8)]
+                    else:
+                        w = [(1 - r - s_, r, s_)[i % 3] * (1 - t if i < 3 else t) for i in range(6)]
+                    p = np.dot(w, c)
+                    d = [np.linalg.norm(coords[o] - p) for o in own]
+                    assert min(d) < 1e-9, (name, k, min(d))
+                    conn.append(own[int(np.argmin(d))])
+                cells.append((vty, conn))
+        moved = coords + 0.07 * np.stack([np.sin(2 * coords[:, 1] + coords[:, 2]),
+                                          np.cos(coords[:, 0] + coords[:, 2]),
+                                          np.sin(coords[:, 0] + 2 * coords[:, 1])], axis=1)
+        for t, p in zip(tags, moved):
+            gmsh.model.mesh.setNode(int(t), list(p), [])
+        values = [f_of(*p) for p in moved]
+        view = gmsh.view.add("f")
+        gmsh.view.addHomogeneousModelData(view, 0, name, "NodeData", tags, values)
+        gmsh.option.setNumber("Mesh.MshFileVersion", 4.1)
+        gmsh.write(out(name + ".msh"))
+        # Only the view's $NodeData after the mesh (not the mesh again).
+        gmsh.option.setNumber("PostProcessing.SaveMesh", 0)
+        gmsh.option.setNumber("PostProcessing.SaveInterpolationMatrices", 0)
+        gmsh.view.write(view, out(name + ".msh"), append=True)
+        gmsh.finalize()
+        vtk_write(name + ".vtu", vtk_grid(moved, cells, {"f": np.array(values)}))
+
+
+def pcoords_lagrange(cls, n):
+    return parametric_coords(cls, n)
+
+
 def write_cells():
+    write_serendipity()
+    write_gmsh_second_order()
     write_lagrange_tets()
     write_lagrange_hexahedra()
     write_lagrange_orders()
@@ -763,6 +957,10 @@ def write_cells():
 if __name__ == "__main__":
     if sys.argv[1:] == ["cells"]:
         write_cells()
+        sys.exit(0)
+    if sys.argv[1:] == ["serendipity"]:
+        write_serendipity()
+        write_gmsh_second_order()
         sys.exit(0)
     write_gmsh_native()
     write_hmesh()

@@ -14,9 +14,9 @@ time steps), so that a node put in the wrong place changes the image.
   in Exodus II's node order, which places each node as the Exodus II manual's element figures
   do (`EXODUS` below).
 - `higher_ref_K.vtu` by VTK: the same points, the HEX27 a Lagrange hexahedron (72), the
-  WEDGE18 a Lagrange wedge (73), the PYRAMID14 a Lagrange pyramid (74), the HEX20 a linear
-  hexahedron of its corners (VoRANG has no cell for the serendipity hexahedron); VTK's node
-  order is taken from VTK's own cells (their parametric coordinates), the pyramid's from
+  WEDGE18 a Lagrange wedge (73), the PYRAMID14 a Lagrange pyramid (74), the HEX20 VTK's
+  quadratic hexahedron (25); VTK's node order is taken from VTK's own cells (their
+  parametric coordinates), the pyramid's from
   crates/vorang/src/formats/lagrange.rs (VTK numbers no 14-node Lagrange pyramid).
 - `higher_wrong_0.vtu`: the Exodus connectivity written as if it were in VTK's order — its
   image must differ from the reference, or the test could not see a wrong permutation.
@@ -96,7 +96,10 @@ def vtk_order(name):
     elif name == "PYRAMID14":
         return list(range(14)), 74
     else:
-        return list(range(8)), 12
+        # VTK's quadratic (serendipity) hexahedron, 25.
+        p = vtk.vtkQuadraticHexahedron().GetParametricCoords()
+        pos = [tuple(round(p[3 * i + k] * 2) for k in range(3)) for i in range(20)]
+        ty = 25
     exo = [tuple(c) for c in EXODUS[name]]
     return [exo.index(p) for p in pos], ty
 

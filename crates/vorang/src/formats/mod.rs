@@ -56,6 +56,11 @@ pub mod cell_type {
     pub const WEDGE: u8 = 13;
     pub const PYRAMID: u8 = 14;
     pub const QUADRATIC_TETRA: u8 = 24;
+    pub const QUADRATIC_HEXAHEDRON: u8 = 25;
+    pub const QUADRATIC_WEDGE: u8 = 26;
+    pub const QUADRATIC_PYRAMID: u8 = 27;
+    pub const TRIQUADRATIC_HEXAHEDRON: u8 = 29;
+    pub const BIQUADRATIC_QUADRATIC_WEDGE: u8 = 32;
     pub const POLYHEDRON: u8 = 42;
     pub const LAGRANGE_TETRAHEDRON: u8 = 71;
     pub const LAGRANGE_HEXAHEDRON: u8 = 72;
@@ -71,6 +76,11 @@ pub mod cell_type {
             WEDGE => Some(6),
             PYRAMID => Some(5),
             QUADRATIC_TETRA => Some(10),
+            QUADRATIC_HEXAHEDRON => Some(20),
+            QUADRATIC_WEDGE => Some(15),
+            QUADRATIC_PYRAMID => Some(13),
+            TRIQUADRATIC_HEXAHEDRON => Some(27),
+            BIQUADRATIC_QUADRATIC_WEDGE => Some(18),
             _ => None,
         }
     }
@@ -111,6 +121,11 @@ pub mod cell_type {
             WEDGE => "wedge".into(),
             PYRAMID => "pyramid".into(),
             QUADRATIC_TETRA => "quadratic tetrahedron".into(),
+            QUADRATIC_HEXAHEDRON => "quadratic hexahedron".into(),
+            QUADRATIC_WEDGE => "quadratic wedge".into(),
+            QUADRATIC_PYRAMID => "quadratic pyramid".into(),
+            TRIQUADRATIC_HEXAHEDRON => "triquadratic hexahedron".into(),
+            BIQUADRATIC_QUADRATIC_WEDGE => "biquadratic-quadratic wedge".into(),
             POLYHEDRON => "polyhedron".into(),
             LAGRANGE_TETRAHEDRON => "Lagrange tetrahedron".into(),
             LAGRANGE_HEXAHEDRON => "Lagrange hexahedron".into(),

@@ -2,7 +2,9 @@
 //! rendered as they are. Tetrahedra stay, quadratic tetrahedra keep their corners (their
 //! mid-edge nodes are remembered for the `HigherOrder` fields), hexahedra, voxels, wedges and
 //! pyramids are split conformingly ([`super::split_cell`]), Lagrange cells by their degree
-//! (`higher`), polyhedra around added centre points (`polyhedra`); everything else is counted
+//! (`higher`), quadratic hexahedra, wedges and pyramids as Lagrange cells with their face
+//! centres added (`serendipity`), polyhedra around added centre points (`polyhedra`);
+//! everything else is counted
 //! and skipped. Apart from the fields because every tetrahedron remembers the cell it was cut
 //! from, which is all the field step needs to know about the split; apart from the rules of
 //! each kind of cell so that this dispatch (the checks every cell passes first: a volume type,
@@ -11,7 +13,7 @@
 use std::collections::HashMap;
 
 use super::cut::{Added, Tetrahedra};
-use super::polyhedra;
+use super::{polyhedra, serendipity};
 use crate::error::{ParseError, Warning};
 use crate::formats::lagrange::Shape;
 use crate::formats::{Cells, cell_type};
@@ -43,6 +45,7 @@ pub(super) fn tetrahedra(
         subdivided: 0,
         unordered: 0,
         added: Added::new(n_nodes, float32),
+        serendipity_faces: HashMap::new(),
     };
     for i in 0..cells.len() {
         let ty = cells.types[i];
@@ -82,6 +85,8 @@ pub(super) fn tetrahedra(
                 )
             })?;
             polyhedra::split(&mut out, i as u32, &faces, nodes);
+        } else if serendipity::handles(ty) {
+            serendipity::add(&mut out, i as u32, ty, conn, nodes);
         } else {
             out.add_cell(i as u32, ty, conn);
         }
@@ -171,7 +176,7 @@ fn skipped_warning(
         file: source.to_string(),
         line: Some(cells_line.max(1)),
         message: format!(
-            "skipped {total} cell{} that VoRANG does not render ({}); the volume cells are tetrahedra, hexahedra, voxels, wedges, pyramids, quadratic tetrahedra, Lagrange cells and polyhedra",
+            "skipped {total} cell{} that VoRANG does not render ({}); the volume cells are tetrahedra, hexahedra, voxels, wedges, pyramids, quadratic tetrahedra, hexahedra, wedges and pyramids, Lagrange cells and polyhedra",
             if total == 1 { "" } else { "s" },
             list.join(", ")
         ),

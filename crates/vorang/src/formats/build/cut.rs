@@ -78,8 +78,10 @@ pub(super) struct Tetrahedra {
     pub(super) subdivided: usize,
     /// Lagrange pyramids of degree 3 or more (skipped: VTK numbers no such nodes).
     pub(super) unordered: usize,
-    /// The points the polyhedra added.
+    /// The points the polyhedra and the serendipity cells added.
     pub(super) added: Added,
+    /// The face centres added for serendipity cells, by the face's sorted corners.
+    pub(super) serendipity_faces: HashMap<Vec<u32>, u32>,
 }
 
 impl Tetrahedra {
@@ -112,16 +114,21 @@ impl Tetrahedra {
     }
 }
 
-/// The points the polyhedra add, each the mean of some of the file's points.
+/// The points the builder adds: the polyhedra's centres, each the mean of some of the file's
+/// points, and the face and cell centres of serendipity cells, each a weighted sum of the
+/// cell's points (`serendipity`).
 #[derive(Debug, Clone)]
 pub(super) struct Added {
     /// The number of the file's points (added point `k` is point `base + k`).
     pub(super) base: usize,
     /// Whether every coordinate of the file is a `float`: the added points are rounded to one.
     float32: bool,
-    /// Added point `k` is the mean of `members[offsets[k]..offsets[k + 1]]` (sorted).
+    /// Added point `k` stands for `members[offsets[k]..offsets[k + 1]]` (sorted): their mean,
+    /// or where `weighted[k]` their sum with the `weights` at the same places.
     offsets: Vec<usize>,
     members: Vec<u32>,
+    weights: Vec<f64>,
+    weighted: Vec<bool>,
     positions: Vec<[f64; 3]>,
     /// Face centres by the face's sorted points.
     pub(super) face_centres: HashMap<Vec<u32>, u32>,
@@ -134,6 +141,8 @@ impl Added {
             float32,
             offsets: vec![0],
             members: Vec::new(),
+            weights: Vec::new(),
+            weighted: Vec::new(),
             positions: Vec::new(),
             face_centres: HashMap::new(),
         }
@@ -152,6 +161,27 @@ impl Added {
         let round = |x: f64| if self.float32 { f64::from(x as f32) } else { x };
         self.positions.push(sum.map(|s| round(s / n)));
         self.members.extend_from_slice(members);
+        self.weights.extend(members.iter().map(|_| 1.0));
+        self.weighted.push(false);
+        self.offsets.push(self.members.len());
+        (self.base + self.positions.len() - 1) as u32
+    }
+
+    /// A new point at `Σ weight · point` over `terms` (point, weight), summed in the order of
+    /// the points (sorted here), so that the same terms give the same bits whoever asks.
+    pub(super) fn weighted_point(&mut self, terms: &mut [(u32, f64)], nodes: &[[f64; 3]]) -> u32 {
+        terms.sort_unstable_by_key(|t| t.0);
+        let mut sum = [0.0f64; 3];
+        for &(m, w) in terms.iter() {
+            for (s, c) in sum.iter_mut().zip(nodes[m as usize]) {
+                *s += w * c;
+            }
+        }
+        let round = |x: f64| if self.float32 { f64::from(x as f32) } else { x };
+        self.positions.push(sum.map(round));
+        self.members.extend(terms.iter().map(|t| t.0));
+        self.weights.extend(terms.iter().map(|t| t.1));
+        self.weighted.push(true);
         self.offsets.push(self.members.len());
         (self.base + self.positions.len() - 1) as u32
     }
@@ -182,8 +212,8 @@ impl Added {
         self
     }
 
-    /// Appends to every point array the mean of its values at the points each added point
-    /// stands for (integer arrays become Float64: a mean is seldom whole).
+    /// Appends to every point array the mean (or weighted sum) of its values at the points
+    /// each added point stands for (integer arrays become Float64: a mean is seldom whole).
     pub(super) fn extend_arrays(&self, point_arrays: &mut [Array]) {
         let added = self.len();
         if added == 0 {
@@ -192,14 +222,20 @@ impl Added {
         for a in point_arrays {
             let n = a.components;
             let mut means = Vec::with_capacity(added * n);
-            for w in self.offsets.windows(2) {
+            for (k, w) in self.offsets.windows(2).enumerate() {
                 let members = &self.members[w[0]..w[1]];
+                let weights = &self.weights[w[0]..w[1]];
                 for c in 0..n {
-                    let sum: f64 = members
-                        .iter()
-                        .map(|&m| a.values.get(m as usize * n + c))
-                        .sum();
-                    means.push(sum / members.len() as f64);
+                    let value = |m: u32| a.values.get(m as usize * n + c);
+                    means.push(if self.weighted[k] {
+                        members
+                            .iter()
+                            .zip(weights)
+                            .map(|(&m, &wt)| wt * value(m))
+                            .sum()
+                    } else {
+                        members.iter().map(|&m| value(m)).sum::<f64>() / members.len() as f64
+                    });
                 }
             }
             match &mut a.values {

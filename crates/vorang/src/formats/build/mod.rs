@@ -40,6 +40,7 @@ mod cut;
 mod fields;
 mod higher;
 mod polyhedra;
+mod serendipity;
 
 use std::collections::HashMap;
 
@@ -128,7 +129,7 @@ pub fn volume_with_shape(
     if tets.is_empty() {
         return Err(err(
             cells_line,
-            "no volume cells (tetrahedra, hexahedra, voxels, wedges, pyramids, quadratic tetrahedra, Lagrange cells or polyhedra): nothing to render".into(),
+            "no volume cells (tetrahedra, hexahedra, voxels, wedges, pyramids, quadratic tetrahedra, hexahedra, wedges or pyramids, Lagrange cells or polyhedra): nothing to render".into(),
         ));
     }
     let cell_arrays = fields::early(cell_arrays, &parent);

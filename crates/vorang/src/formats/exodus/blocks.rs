@@ -51,10 +51,21 @@ const HEX27: [usize; 27] = [
 /// 2-3-6-5, 3-1-4-6) come last in both.
 const WEDGE18: [usize; 18] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 13, 14, 9, 10, 11, 15, 16, 17];
 
+/// `HEX20` as VTK's quadratic hexahedron: Exodus lists the vertical edges' nodes (1-5, 2-6,
+/// 3-7, 4-8) before the top face's, VTK after.
+const HEX20: [usize; 20] = [
+    0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 16, 17, 18, 19, 12, 13, 14, 15,
+];
+
+/// `WEDGE15` as VTK's quadratic wedge: the vertical edges' nodes before the top triangle's.
+const WEDGE15: [usize; 15] = [0, 1, 2, 3, 4, 5, 6, 7, 8, 12, 13, 14, 9, 10, 11];
+
 /// How elements of `elem_type` with `nodes` nodes each become cells; `None`: not a volume
-/// element. Elements VoRANG has no exact cell for (the serendipity `HEX20`, `WEDGE15`,
-/// `PYRAMID13`, and other node counts) keep their corners (`exact` false); a tetrahedron with
-/// more than 10 nodes (`TETRA14`, `TETRA15`: face nodes) its 10 quadratic nodes.
+/// element. The serendipity `HEX20`, `WEDGE15` and `PYRAMID13` become VTK's quadratic cells
+/// (read as Lagrange cells with their face centres added: crates/vorang/src/formats/build/
+/// serendipity.rs); elements of other node counts keep their corners (`exact` false); a
+/// tetrahedron with more than 10 nodes (`TETRA14`, `TETRA15`: face nodes) its 10 quadratic
+/// nodes.
 fn kind(elem_type: &str, nodes: usize) -> Option<Kind> {
     let t = elem_type.trim().to_ascii_uppercase();
     let exact = |ty: u8, order: &'static [usize]| Kind {
@@ -81,10 +92,16 @@ fn kind(elem_type: &str, nodes: usize) -> Option<Kind> {
         if nodes == 27 {
             return Some(exact(vtk::LAGRANGE_HEXAHEDRON, &HEX27));
         }
+        if nodes == 20 {
+            return Some(exact(vtk::QUADRATIC_HEXAHEDRON, &HEX20));
+        }
         corners(vtk::HEXAHEDRON, 8)
     } else if t.starts_with("WEDGE") {
         if nodes == 18 {
             return Some(exact(vtk::LAGRANGE_WEDGE, &WEDGE18));
+        }
+        if nodes == 15 {
+            return Some(exact(vtk::QUADRATIC_WEDGE, &WEDGE15));
         }
         corners(vtk::WEDGE, 6)
     } else if t.starts_with("PYR") {
@@ -92,6 +109,10 @@ fn kind(elem_type: &str, nodes: usize) -> Option<Kind> {
         // the order of VoRANG's degree-2 Lagrange pyramid (crates/vorang/src/formats/lagrange.rs).
         if nodes == 14 {
             return Some(exact(vtk::LAGRANGE_PYRAMID, &IDENTITY[..14]));
+        }
+        // PYRAMID13: VTK's quadratic pyramid, the same order.
+        if nodes == 13 {
+            return Some(exact(vtk::QUADRATIC_PYRAMID, &IDENTITY[..13]));
         }
         corners(vtk::PYRAMID, 5)
     } else {
@@ -309,12 +330,16 @@ mod tests {
         assert_eq!(ty("TETRA10", 10), Some((vtk::QUADRATIC_TETRA, 10, true)));
         assert_eq!(ty("TETRA14", 14), Some((vtk::QUADRATIC_TETRA, 10, false)));
         assert_eq!(ty("HEX27", 27), Some((vtk::LAGRANGE_HEXAHEDRON, 27, true)));
-        assert_eq!(ty("HEX20", 20), Some((vtk::HEXAHEDRON, 8, false)));
+        assert_eq!(ty("HEX20", 20), Some((vtk::QUADRATIC_HEXAHEDRON, 20, true)));
         assert_eq!(ty("Wedge6", 6), Some((vtk::WEDGE, 6, true)));
-        assert_eq!(ty("WEDGE15", 15), Some((vtk::WEDGE, 6, false)));
+        assert_eq!(ty("WEDGE15", 15), Some((vtk::QUADRATIC_WEDGE, 15, true)));
         assert_eq!(ty("WEDGE18", 18), Some((vtk::LAGRANGE_WEDGE, 18, true)));
         assert_eq!(ty("PYRAMID5", 5), Some((vtk::PYRAMID, 5, true)));
-        assert_eq!(ty("PYRAMID13", 13), Some((vtk::PYRAMID, 5, false)));
+        assert_eq!(
+            ty("PYRAMID13", 13),
+            Some((vtk::QUADRATIC_PYRAMID, 13, true))
+        );
+        assert_eq!(ty("HEX9", 9), Some((vtk::HEXAHEDRON, 8, false)));
         assert_eq!(ty("PYRAMID14", 14), Some((vtk::LAGRANGE_PYRAMID, 14, true)));
         assert_eq!(ty("SHELL4", 4), None);
         assert_eq!(ty("QUAD4", 4), None);
@@ -372,6 +397,99 @@ mod tests {
             [1, 2, 1],
         ]);
         check_order(Shape::Hexahedron, &exodus, &HEX27);
+    }
+
+    /// HEX20 and WEDGE15: each VTK node (VTK's parametric coordinates of its quadratic
+    /// hexahedron and wedge, times 2, as vtkQuadraticHexahedron/vtkQuadraticWedge give them) is
+    /// the Exodus node the order puts there (the Exodus II manual's numbering).
+    #[test]
+    fn hex20_and_wedge15_nodes_land_where_vtk_has_them() {
+        let exodus_hex = [
+            [0, 0, 0],
+            [2, 0, 0],
+            [2, 2, 0],
+            [0, 2, 0],
+            [0, 0, 2],
+            [2, 0, 2],
+            [2, 2, 2],
+            [0, 2, 2],
+            // Bottom edges, vertical edges, top edges.
+            [1, 0, 0],
+            [2, 1, 0],
+            [1, 2, 0],
+            [0, 1, 0],
+            [0, 0, 1],
+            [2, 0, 1],
+            [2, 2, 1],
+            [0, 2, 1],
+            [1, 0, 2],
+            [2, 1, 2],
+            [1, 2, 2],
+            [0, 1, 2],
+        ];
+        let vtk_hex = [
+            [0, 0, 0],
+            [2, 0, 0],
+            [2, 2, 0],
+            [0, 2, 0],
+            [0, 0, 2],
+            [2, 0, 2],
+            [2, 2, 2],
+            [0, 2, 2],
+            [1, 0, 0],
+            [2, 1, 0],
+            [1, 2, 0],
+            [0, 1, 0],
+            [1, 0, 2],
+            [2, 1, 2],
+            [1, 2, 2],
+            [0, 1, 2],
+            [0, 0, 1],
+            [2, 0, 1],
+            [2, 2, 1],
+            [0, 2, 1],
+        ];
+        for (v, &e) in HEX20.iter().enumerate() {
+            assert_eq!(exodus_hex[e], vtk_hex[v], "HEX20: VTK node {v}");
+        }
+        let exodus_wedge = [
+            [0, 0, 0],
+            [2, 0, 0],
+            [0, 2, 0],
+            [0, 0, 2],
+            [2, 0, 2],
+            [0, 2, 2],
+            // Bottom edges, vertical edges, top edges.
+            [1, 0, 0],
+            [1, 1, 0],
+            [0, 1, 0],
+            [0, 0, 1],
+            [2, 0, 1],
+            [0, 2, 1],
+            [1, 0, 2],
+            [1, 1, 2],
+            [0, 1, 2],
+        ];
+        let vtk_wedge = [
+            [0, 0, 0],
+            [2, 0, 0],
+            [0, 2, 0],
+            [0, 0, 2],
+            [2, 0, 2],
+            [0, 2, 2],
+            [1, 0, 0],
+            [1, 1, 0],
+            [0, 1, 0],
+            [1, 0, 2],
+            [1, 1, 2],
+            [0, 1, 2],
+            [0, 0, 1],
+            [2, 0, 1],
+            [0, 2, 1],
+        ];
+        for (v, &e) in WEDGE15.iter().enumerate() {
+            assert_eq!(exodus_wedge[e], vtk_wedge[v], "WEDGE15: VTK node {v}");
+        }
     }
 
     #[test]

@@ -24,14 +24,14 @@ fn element_type(t: i64) -> Option<(u8, usize)> {
         9 => (22, 6),
         10 => (28, 9),
         11 => (cell_type::QUADRATIC_TETRA, 10),
-        12 => (29, 27),
-        13 => (32, 18),
+        12 => (cell_type::TRIQUADRATIC_HEXAHEDRON, 27),
+        13 => (cell_type::BIQUADRATIC_QUADRATIC_WEDGE, 18),
         14 => (255, 14),
         15 => (cell_type::VERTEX, 1),
         16 => (23, 8),
-        17 => (25, 20),
-        18 => (26, 15),
-        19 => (27, 13),
+        17 => (cell_type::QUADRATIC_HEXAHEDRON, 20),
+        18 => (cell_type::QUADRATIC_WEDGE, 15),
+        19 => (cell_type::QUADRATIC_PYRAMID, 13),
         20 => (255, 9),
         21 => (69, 10),
         22 => (255, 12),
@@ -48,6 +48,31 @@ fn element_type(t: i64) -> Option<(u8, usize)> {
         31 => (255, 56),
         92 => (255, 64),
         93 => (255, 125),
+        _ => return None,
+    })
+}
+
+/// For VTK's quadratic hexahedra, wedges and pyramids: the Gmsh node at each VTK node. Gmsh
+/// numbers the edges of these elements by their first corner (the 20-node hexahedron:
+/// 0-1, 0-3, 0-4, 1-2, …), VTK around the bottom, the top, then upwards; their faces in
+/// another order too (Gmsh's documentation, "Node ordering"; meshio converts the same way).
+fn vtk_order(vtk: u8) -> Option<&'static [usize]> {
+    const HEX20: [usize; 20] = [
+        0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15,
+    ];
+    const HEX27: [usize; 27] = [
+        0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15, 22, 23, 21, 24, 20,
+        25, 26,
+    ];
+    const WEDGE15: [usize; 15] = [0, 1, 2, 3, 4, 5, 6, 9, 7, 12, 14, 13, 8, 10, 11];
+    const WEDGE18: [usize; 18] = [0, 1, 2, 3, 4, 5, 6, 9, 7, 12, 14, 13, 8, 10, 11, 15, 17, 16];
+    const PYRAMID13: [usize; 13] = [0, 1, 2, 3, 4, 5, 8, 10, 6, 7, 9, 11, 12];
+    Some(match vtk {
+        cell_type::QUADRATIC_HEXAHEDRON => &HEX20,
+        cell_type::TRIQUADRATIC_HEXAHEDRON => &HEX27,
+        cell_type::QUADRATIC_WEDGE => &WEDGE15,
+        cell_type::BIQUADRATIC_QUADRATIC_WEDGE => &WEDGE18,
+        cell_type::QUADRATIC_PYRAMID => &PYRAMID13,
         _ => return None,
     })
 }
@@ -233,6 +258,11 @@ impl Sections {
             }
             if *vtk == cell_type::QUADRATIC_TETRA {
                 nodes.swap(8, 9);
+            }
+            if let Some(order) = vtk_order(*vtk)
+                && nodes.len() == order.len()
+            {
+                nodes = order.iter().map(|&k| nodes[k]).collect();
             }
             desc.cells.push(*vtk, &nodes);
         }

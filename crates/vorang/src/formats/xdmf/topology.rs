@@ -4,8 +4,8 @@
 //! `Hexahedron_27` and `Wedge_18` are VTK's triquadratic hexahedron and biquadratic-quadratic
 //! wedge, whose nodes are those of the degree-2 Lagrange hexahedron and wedge in the same
 //! order (crates/vorang/src/formats/lagrange.rs), so they become those; the serendipity
-//! `Hexahedron_20`, `Wedge_15` and `Pyramid_13` stay VTK's quadratic cells, which VoRANG skips
-//! as the `.vtu` reader does.
+//! `Hexahedron_20`, `Wedge_15` and `Pyramid_13` are VTK's quadratic cells, read as the `.vtu`
+//! reader reads them (crates/vorang/src/formats/build/serendipity.rs).
 
 use super::data::Items;
 use super::tree::Node;
@@ -24,9 +24,9 @@ fn by_name(name: &str) -> Option<(u8, usize)> {
         "pyramid" => (vtk::PYRAMID, 5),
         "hexahedron_27" | "hex_27" => (vtk::LAGRANGE_HEXAHEDRON, 27),
         "wedge_18" => (vtk::LAGRANGE_WEDGE, 18),
-        "hexahedron_20" | "hex_20" => (25, 20),
-        "wedge_15" => (26, 15),
-        "pyramid_13" => (27, 13),
+        "hexahedron_20" | "hex_20" => (vtk::QUADRATIC_HEXAHEDRON, 20),
+        "wedge_15" => (vtk::QUADRATIC_WEDGE, 15),
+        "pyramid_13" => (vtk::QUADRATIC_PYRAMID, 13),
         "triangle" => (vtk::TRIANGLE, 3),
         "quadrilateral" => (vtk::QUAD, 4),
         "polyline" => (vtk::LINE, 2),
@@ -53,10 +53,10 @@ fn by_code(code: i64) -> Option<(u8, usize)> {
         36 => (22, 6), // 6-node triangle
         37 => (23, 8), // 8-node quadrilateral
         38 => (vtk::QUADRATIC_TETRA, 10),
-        39 => (27, 13), // 13-node pyramid
-        40 => (26, 15), // 15-node wedge
+        39 => (vtk::QUADRATIC_PYRAMID, 13),
+        40 => (vtk::QUADRATIC_WEDGE, 15),
         41 => (vtk::LAGRANGE_WEDGE, 18),
-        48 => (25, 20), // 20-node hexahedron
+        48 => (vtk::QUADRATIC_HEXAHEDRON, 20),
         50 => (vtk::LAGRANGE_HEXAHEDRON, 27),
         _ => return None,
     })
@@ -203,7 +203,7 @@ pub fn cells(items: &mut Items, t: &Node, points: usize) -> Result<Cells, ParseE
     let (ty, mut per) = by_name(kind).ok_or_else(|| {
         items.error(
             t.line,
-            format!("TopologyType=\"{kind}\": VoRANG reads Tetrahedron, Tetrahedron_10, Hexahedron, Hexahedron_27, Wedge, Wedge_18, Pyramid and Mixed (Triangle, Quadrilateral, Polyline, Polyvertex, Hexahedron_20, Wedge_15 and Pyramid_13 are skipped)"),
+            format!("TopologyType=\"{kind}\": VoRANG reads Tetrahedron, Tetrahedron_10, Hexahedron, Hexahedron_20, Hexahedron_27, Wedge, Wedge_15, Wedge_18, Pyramid, Pyramid_13 and Mixed (Triangle, Quadrilateral, Polyline and Polyvertex are skipped)"),
         )
     })?;
     if let Some(n) = t
