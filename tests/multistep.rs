@@ -404,3 +404,19 @@ fn bad_vtkhdf_and_exodus_name_the_dataset() {
         "{e}"
     );
 }
+
+/// A netCDF-4 file whose group holds a link to itself (h5py: `tests/data/multistep/
+/// generate.py`, `write_cyclic`) is an error, from a file and from bytes — not a stack
+/// overflow in the netCDF layer (found by fuzzing).
+#[test]
+fn a_netcdf4_file_whose_groups_are_no_tree_is_an_error() {
+    let e = Volume::load(&data("cyclic.e")).unwrap_err().to_string();
+    assert!(
+        e.contains("cyclic.e: not a readable netCDF file: group"),
+        "{e}"
+    );
+    assert!(e.contains("is reached twice"), "{e}");
+    let bytes = std::fs::read(data("cyclic.e")).unwrap();
+    let e = vorang::formats::exodus::read(&bytes, "cyclic.e").unwrap_err();
+    assert!(e.to_string().contains("is reached twice"), "{e}");
+}

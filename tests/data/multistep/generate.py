@@ -455,6 +455,18 @@ def write_exodus_files():
                  meshio.Mesh(POINTS, [("tetra", TETS)], point_data={"T": temperature}))
 
 
+def write_cyclic():
+    """`cyclic.e`: a netCDF-4 (HDF5) file with Exodus's global attributes whose group `g`
+    holds a hard link to itself — a hostile file: its groups are no tree."""
+    import h5py
+
+    with h5py.File(out("cyclic.e"), "w") as f:
+        f.attrs["api_version"] = np.float32(8.03)
+        f.attrs["floating_point_word_size"] = np.int32(8)
+        g = f.create_group("g")
+        g["self"] = g
+
+
 def main():
     write_vtkhdf_with_vtk("flow.vtkhdf", moving=False)
     write_vtkhdf_with_vtk("moving.vtkhdf", moving=True)
@@ -470,6 +482,7 @@ def main():
         check_vtkhdf(name, len(TIMES))
     write_xdmf_files()
     write_exodus_files()
+    write_cyclic()
 
 
 if __name__ == "__main__":

@@ -55,6 +55,44 @@ fn nc4_options(limit: u64) -> NcOpenOptions {
     }
 }
 
+/// At most this many groups in a netCDF-4 file (an Exodus file has one).
+const MAX_GROUPS: usize = 4096;
+
+/// The groups of a netCDF-4 file form a tree, as netCDF's data model has them: no group is
+/// reached twice from the root (HDF5 links can make a group its own member, and
+/// `netcdf-reader` would then follow it without end until the stack overflows: found by
+/// fuzzing), and there are at most [`MAX_GROUPS`]. An HDF5 layer that cannot be read is left to
+/// `netcdf-reader`, which says why.
+fn check_groups(
+    file: Result<hdf5_reader::Hdf5File, hdf5_reader::error::Error>,
+    name: &str,
+) -> Result<(), ParseError> {
+    let Ok(root) = file.and_then(|f| f.root_group()) else {
+        return Ok(());
+    };
+    let bad = |m: String| ParseError::new(name, 0, format!("not a readable netCDF file: {m}"));
+    let mut seen = std::collections::HashSet::from([root.address()]);
+    let mut open = vec![root];
+    while let Some(group) = open.pop() {
+        let Ok(children) = group.groups() else {
+            continue;
+        };
+        for child in children {
+            if !seen.insert(child.address()) {
+                return Err(bad(format!(
+                    "group '{}' is reached twice (the groups do not form a tree)",
+                    child.name()
+                )));
+            }
+            if seen.len() > MAX_GROUPS {
+                return Err(bad(format!("more than {MAX_GROUPS} groups")));
+            }
+            open.push(child);
+        }
+    }
+    Ok(())
+}
+
 /// How many bytes a netCDF-4 variable read whole may claim: its data may be compressed, and
 /// deflate expands at most about 1032-fold.
 fn nc4_limit(len: u64) -> u64 {
@@ -85,6 +123,16 @@ impl Exo {
             let map = unsafe { memmap2::Mmap::map(&file) }.map_err(|e| bad(&e))?;
             let storage: netcdf_reader::DynStorage =
                 std::sync::Arc::new(netcdf_reader::MmapStorage::new(map));
+            check_groups(
+                hdf5_reader::Hdf5File::from_storage_with_options(
+                    storage.clone(),
+                    hdf5_reader::OpenOptions {
+                        chunk_cache_bytes: 0,
+                        ..hdf5_reader::OpenOptions::default()
+                    },
+                ),
+                name,
+            )?;
             NcFile::from_storage_with_options(storage, nc4_options(nc4_limit(len)))
                 .map_err(|e| bad(&e))?
         };
@@ -99,6 +147,18 @@ impl Exo {
     fn from_bytes(bytes: &[u8], name: &str) -> Result<Exo, ParseError> {
         let len = bytes.len() as u64;
         let classic = bytes.starts_with(b"CDF");
+        if !classic {
+            check_groups(
+                hdf5_reader::Hdf5File::from_bytes_with_options(
+                    bytes,
+                    hdf5_reader::OpenOptions {
+                        chunk_cache_bytes: 0,
+                        ..hdf5_reader::OpenOptions::default()
+                    },
+                ),
+                name,
+            )?;
+        }
         let nc = NcFile::from_bytes_with_options(bytes, nc4_options(nc4_limit(len)))
             .map_err(|e| ParseError::new(name, 0, format!("not a readable netCDF file: {e}")))?;
         Ok(Exo {
