@@ -346,6 +346,52 @@ mod tests {
         assert_eq!(ty("TETRA", 3), None);
     }
 
+    /// The Exodus II manual's HEX20 (the first 20 nodes of its HEX27): each node on the unit
+    /// cell, times 2.
+    const EXODUS_HEX20: [[usize; 3]; 20] = [
+        [0, 0, 0],
+        [2, 0, 0],
+        [2, 2, 0],
+        [0, 2, 0],
+        [0, 0, 2],
+        [2, 0, 2],
+        [2, 2, 2],
+        [0, 2, 2],
+        // Bottom edges, vertical edges, top edges.
+        [1, 0, 0],
+        [2, 1, 0],
+        [1, 2, 0],
+        [0, 1, 0],
+        [0, 0, 1],
+        [2, 0, 1],
+        [2, 2, 1],
+        [0, 2, 1],
+        [1, 0, 2],
+        [2, 1, 2],
+        [1, 2, 2],
+        [0, 1, 2],
+    ];
+
+    /// The Exodus II manual's WEDGE15 (the first 15 nodes of its WEDGE18).
+    const EXODUS_WEDGE15: [[usize; 3]; 15] = [
+        [0, 0, 0],
+        [2, 0, 0],
+        [0, 2, 0],
+        [0, 0, 2],
+        [2, 0, 2],
+        [0, 2, 2],
+        // Bottom edges 1-2, 2-3, 3-1; vertical 1-4, 2-5, 3-6; top 4-5, 5-6, 6-4.
+        [1, 0, 0],
+        [1, 1, 0],
+        [0, 1, 0],
+        [0, 0, 1],
+        [2, 0, 1],
+        [0, 2, 1],
+        [1, 0, 2],
+        [1, 1, 2],
+        [0, 1, 2],
+    ];
+
     /// Where the Exodus II manual places each node of an element (on the unit cell, times 2:
     /// the degree-2 lattice), checked against where VoRANG's Lagrange cells expect the node
     /// that the order puts there.
@@ -363,29 +409,7 @@ mod tests {
 
     #[test]
     fn hex27_nodes_land_where_the_lagrange_hexahedron_has_them() {
-        let mut exodus = vec![
-            [0, 0, 0],
-            [2, 0, 0],
-            [2, 2, 0],
-            [0, 2, 0],
-            [0, 0, 2],
-            [2, 0, 2],
-            [2, 2, 2],
-            [0, 2, 2],
-            // Bottom edges, vertical edges, top edges.
-            [1, 0, 0],
-            [2, 1, 0],
-            [1, 2, 0],
-            [0, 1, 0],
-            [0, 0, 1],
-            [2, 0, 1],
-            [2, 2, 1],
-            [0, 2, 1],
-            [1, 0, 2],
-            [2, 1, 2],
-            [1, 2, 2],
-            [0, 1, 2],
-        ];
+        let mut exodus = EXODUS_HEX20.to_vec();
         // Centre; faces bottom, top, 1-4-8-5 (x = 0), 2-3-7-6, 1-2-6-5 (y = 0), 3-4-8-7.
         exodus.extend([
             [1, 1, 1],
@@ -404,29 +428,7 @@ mod tests {
     /// the Exodus node the order puts there (the Exodus II manual's numbering).
     #[test]
     fn hex20_and_wedge15_nodes_land_where_vtk_has_them() {
-        let exodus_hex = [
-            [0, 0, 0],
-            [2, 0, 0],
-            [2, 2, 0],
-            [0, 2, 0],
-            [0, 0, 2],
-            [2, 0, 2],
-            [2, 2, 2],
-            [0, 2, 2],
-            // Bottom edges, vertical edges, top edges.
-            [1, 0, 0],
-            [2, 1, 0],
-            [1, 2, 0],
-            [0, 1, 0],
-            [0, 0, 1],
-            [2, 0, 1],
-            [2, 2, 1],
-            [0, 2, 1],
-            [1, 0, 2],
-            [2, 1, 2],
-            [1, 2, 2],
-            [0, 1, 2],
-        ];
+        let exodus_hex = EXODUS_HEX20;
         let vtk_hex = [
             [0, 0, 0],
             [2, 0, 0],
@@ -452,24 +454,7 @@ mod tests {
         for (v, &e) in HEX20.iter().enumerate() {
             assert_eq!(exodus_hex[e], vtk_hex[v], "HEX20: VTK node {v}");
         }
-        let exodus_wedge = [
-            [0, 0, 0],
-            [2, 0, 0],
-            [0, 2, 0],
-            [0, 0, 2],
-            [2, 0, 2],
-            [0, 2, 2],
-            // Bottom edges, vertical edges, top edges.
-            [1, 0, 0],
-            [1, 1, 0],
-            [0, 1, 0],
-            [0, 0, 1],
-            [2, 0, 1],
-            [0, 2, 1],
-            [1, 0, 2],
-            [1, 1, 2],
-            [0, 1, 2],
-        ];
+        let exodus_wedge = EXODUS_WEDGE15;
         let vtk_wedge = [
             [0, 0, 0],
             [2, 0, 0],
@@ -494,28 +479,9 @@ mod tests {
 
     #[test]
     fn wedge18_nodes_land_where_the_lagrange_wedge_has_them() {
-        let exodus = [
-            [0, 0, 0],
-            [2, 0, 0],
-            [0, 2, 0],
-            [0, 0, 2],
-            [2, 0, 2],
-            [0, 2, 2],
-            // Bottom edges 1-2, 2-3, 3-1; vertical 1-4, 2-5, 3-6; top 4-5, 5-6, 6-4.
-            [1, 0, 0],
-            [1, 1, 0],
-            [0, 1, 0],
-            [0, 0, 1],
-            [2, 0, 1],
-            [0, 2, 1],
-            [1, 0, 2],
-            [1, 1, 2],
-            [0, 1, 2],
-            // Faces 1-2-5-4, 2-3-6-5, 3-1-4-6.
-            [1, 0, 1],
-            [1, 1, 1],
-            [0, 1, 1],
-        ];
+        let mut exodus = EXODUS_WEDGE15.to_vec();
+        // Faces 1-2-5-4, 2-3-6-5, 3-1-4-6.
+        exodus.extend([[1, 0, 1], [1, 1, 1], [0, 1, 1]]);
         check_order(Shape::Wedge, &exodus, &WEDGE18);
     }
 
