@@ -225,6 +225,19 @@ fn missing(e: hdf5_reader::error::Error) -> String {
     }
 }
 
+/// An array's values in C order as a vector: the array's own buffer where it is one (as
+/// `hdf5-reader` and `netcdf-reader` build them), so that a large dataset is not copied.
+pub(super) fn into_vec<T: Clone>(a: ndarray::ArrayD<T>) -> Vec<T> {
+    if !a.is_standard_layout() {
+        return a.iter().cloned().collect();
+    }
+    let n = a.len();
+    let (mut values, offset) = a.into_raw_vec_and_offset();
+    values.drain(..offset.unwrap_or(0).min(values.len()));
+    values.truncate(n);
+    values
+}
+
 /// Reads a dataset (or a selection of it) in its own number type.
 fn read_typed(
     ds: &hdf5_reader::Dataset,
@@ -236,18 +249,7 @@ fn read_typed(
                 Some(s) => ds.read_slice::<$t>(s),
                 None => ds.read_array::<$t>(),
             }
-            .map(|a| {
-                // The array's own buffer where it is one (as `hdf5-reader` builds them), so
-                // that a large dataset is not copied.
-                if !a.is_standard_layout() {
-                    return a.iter().cloned().collect::<Vec<$t>>();
-                }
-                let n = a.len();
-                let (mut values, offset) = a.into_raw_vec_and_offset();
-                values.drain(..offset.unwrap_or(0).min(values.len()));
-                values.truncate(n);
-                values
-            })
+            .map(into_vec)
             .map_err(|e| e.to_string())
         };
     }

@@ -13,8 +13,11 @@
 mod blocks;
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
-use netcdf_reader::{NcFile, NcOpenOptions, NcReadable, NcSliceInfo, NcSliceInfoElem, NcType};
+use netcdf_reader::{
+    NcFile, NcFormat, NcOpenOptions, NcReadable, NcSliceInfo, NcSliceInfoElem, NcType,
+};
 
 use super::{Array, ArrayValues, FileStep, MeshDescription};
 use crate::error::ParseError;
@@ -38,8 +41,6 @@ pub(super) struct Exo {
     /// a classic file, 1100 times that for netCDF-4, whose data may be compressed (deflate
     /// expands at most about 1032-fold).
     limit: u64,
-    /// netCDF-4 (HDF5), read through `hdf5-reader` ([`nc4_options`]); else classic.
-    nc4: bool,
 }
 
 /// How a netCDF-4 file is opened: no chunk cache — a mesh's variables are read once each, and
@@ -109,64 +110,65 @@ impl Exo {
         let mut magic = [0u8; 4];
         let classic =
             std::io::Read::read_exact(&mut file, &mut magic).is_ok() && magic.starts_with(b"CDF");
-        let nc = if classic {
+        if classic {
             // netcdf-reader maps classic files itself and reads from the map.
-            NcFile::open(path).map_err(|e| bad(&e))?
-        } else {
-            // A netCDF-4 file is mapped here and read from the map, so that a variable is
-            // copied once, into its vector (netcdf-reader's own `open` reads each range into
-            // a buffer first, which doubles a connectivity while it is read: docs/formats.md,
-            // "Speed and memory").
-            // SAFETY: the map is only read; as for every mapped file, another program
-            // truncating the file meanwhile is not guarded against (netcdf-reader maps
-            // classic files the same way).
-            let map = unsafe { memmap2::Mmap::map(&file) }.map_err(|e| bad(&e))?;
-            let storage: netcdf_reader::DynStorage =
-                std::sync::Arc::new(netcdf_reader::MmapStorage::new(map));
-            check_groups(
-                hdf5_reader::Hdf5File::from_storage_with_options(
-                    storage.clone(),
-                    hdf5_reader::OpenOptions {
-                        chunk_cache_bytes: 0,
-                        ..hdf5_reader::OpenOptions::default()
-                    },
-                ),
-                name,
-            )?;
-            NcFile::from_storage_with_options(storage, nc4_options(nc4_limit(len)))
-                .map_err(|e| bad(&e))?
-        };
-        Ok(Exo {
-            nc,
-            name: name.to_string(),
-            limit: if classic { len } else { nc4_limit(len) },
-            nc4: !classic,
-        })
+            let nc = NcFile::open(path).map_err(|e| bad(&e))?;
+            return Ok(Exo::classic(nc, name, len));
+        }
+        // A netCDF-4 file is mapped here and read from the map, so that a variable is copied
+        // once, into its vector (netcdf-reader's own `open` reads each range into a buffer
+        // first, which doubles a connectivity while it is read: docs/formats.md, "Speed and
+        // memory").
+        // SAFETY: the map is only read; as for every mapped file, another program truncating
+        // the file meanwhile is not guarded against (netcdf-reader maps classic files the same
+        // way).
+        let map = unsafe { memmap2::Mmap::map(&file) }.map_err(|e| bad(&e))?;
+        Exo::nc4(Arc::new(netcdf_reader::MmapStorage::new(map)), name, len)
     }
 
     fn from_bytes(bytes: &[u8], name: &str) -> Result<Exo, ParseError> {
         let len = bytes.len() as u64;
-        let classic = bytes.starts_with(b"CDF");
-        if !classic {
-            check_groups(
-                hdf5_reader::Hdf5File::from_bytes_with_options(
-                    bytes,
-                    hdf5_reader::OpenOptions {
-                        chunk_cache_bytes: 0,
-                        ..hdf5_reader::OpenOptions::default()
-                    },
-                ),
-                name,
-            )?;
+        if bytes.starts_with(b"CDF") {
+            let nc = NcFile::from_bytes(bytes).map_err(|e| {
+                ParseError::new(name, 0, format!("not a readable netCDF file: {e}"))
+            })?;
+            return Ok(Exo::classic(nc, name, len));
         }
-        let nc = NcFile::from_bytes_with_options(bytes, nc4_options(nc4_limit(len)))
+        // One copy of the bytes, shared by the group check and the reader.
+        let storage = hdf5_reader::storage::BytesStorage::new(bytes.to_vec());
+        Exo::nc4(Arc::new(storage), name, len)
+    }
+
+    fn classic(nc: NcFile, name: &str, len: u64) -> Exo {
+        Exo {
+            nc,
+            name: name.to_string(),
+            limit: len,
+        }
+    }
+
+    /// A netCDF-4 file from its bytes: the groups checked ([`check_groups`]), then opened.
+    fn nc4(storage: netcdf_reader::DynStorage, name: &str, len: u64) -> Result<Exo, ParseError> {
+        let hdf5 = hdf5_reader::Hdf5File::from_storage_with_options(
+            Arc::clone(&storage),
+            hdf5_reader::OpenOptions {
+                chunk_cache_bytes: 0,
+                ..hdf5_reader::OpenOptions::default()
+            },
+        );
+        check_groups(hdf5, name)?;
+        let nc = NcFile::from_storage_with_options(storage, nc4_options(nc4_limit(len)))
             .map_err(|e| ParseError::new(name, 0, format!("not a readable netCDF file: {e}")))?;
         Ok(Exo {
             nc,
             name: name.to_string(),
-            limit: if classic { len } else { nc4_limit(len) },
-            nc4: !classic,
+            limit: nc4_limit(len),
         })
+    }
+
+    /// Whether the file is netCDF-4 (HDF5, read through `hdf5-reader`: [`nc4_options`]).
+    fn is_nc4(&self) -> bool {
+        matches!(self.nc.format(), NcFormat::Nc4 | NcFormat::Nc4Classic)
     }
 
     pub(super) fn error(&self, what: &str, message: impl std::fmt::Display) -> ParseError {
@@ -275,7 +277,7 @@ impl Exo {
                 .try_fold(1u64, |n, &d| n.checked_mul(d))
                 .and_then(|n| n.checked_mul(std::mem::size_of::<T>() as u64))
         });
-        if all && !self.nc4 && size.is_some_and(|b| b <= self.limit) {
+        if all && !self.is_nc4() && size.is_some_and(|b| b <= self.limit) {
             let n = size.unwrap_or(0) as usize / std::mem::size_of::<T>().max(1);
             let mut values = vec![T::default(); n];
             self.nc.read_variable_into(var, &mut values)?;
@@ -286,17 +288,7 @@ impl Exo {
         } else {
             self.nc.read_variable_slice::<T>(var, selection)?
         };
-        let n = a.len();
-        if !a.is_standard_layout() {
-            return Ok(a.iter().cloned().collect());
-        }
-        let (mut values, offset) = a.into_raw_vec_and_offset();
-        let offset = offset.unwrap_or(0);
-        if offset > 0 {
-            values.drain(..offset.min(values.len()));
-        }
-        values.truncate(n);
-        Ok(values)
+        Ok(super::hdf::into_vec(a))
     }
 
     /// A connectivity variable: its node numbers as stored (`int` or `int64`; other number
