@@ -472,24 +472,21 @@ impl Buffers<'_> {
 
     /// `piece_of`: the number of knots `≤ s`, by bisection.
     pub fn piece_of(&self, s: f64) -> usize {
-        let (mut lo, mut hi) = (0, self.knot_count());
-        while lo < hi {
-            let mid = lo + (hi - lo) / 2;
-            if self.knot(mid) <= s {
-                lo = mid + 1;
-            } else {
-                hi = mid;
-            }
-        }
-        lo
+        self.knots_where(|x| x <= s)
     }
 
     /// `knots_below`: the number of knots `< s`, by bisection.
     pub fn knots_below(&self, s: f64) -> usize {
+        self.knots_where(|x| x < s)
+    }
+
+    /// How many of the increasing knots have `holds`, which holds for a first stretch of them
+    /// (the bisection loop of `piece_of` and `knots_below`, which WGSL writes out twice).
+    fn knots_where(&self, holds: impl Fn(f64) -> bool) -> usize {
         let (mut lo, mut hi) = (0, self.knot_count());
         while lo < hi {
             let mid = lo + (hi - lo) / 2;
-            if self.knot(mid) < s {
+            if holds(self.knot(mid)) {
                 lo = mid + 1;
             } else {
                 hi = mid;

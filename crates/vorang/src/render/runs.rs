@@ -44,6 +44,14 @@ struct Run {
     far: f64,
 }
 
+impl Run {
+    /// Whether the run changes no light (`b = 0`, `θ = 1`): cells clipped away or only grazed.
+    #[inline]
+    fn is_identity(&self) -> bool {
+        self.theta == 1.0 && self.b.iter().all(|v| v.to_bits() == 0)
+    }
+}
+
 /// `outer ∘ inner`: light passes `inner` first.
 #[inline]
 fn compose(outer: ([f64; 3], f64), inner: ([f64; 3], f64)) -> ([f64; 3], f64) {
@@ -159,8 +167,7 @@ impl Runs {
         while at != NONE {
             let (r, next) = &self.arena[at as usize];
             // A run that changes no light holds no surface (cells the ray only grazes).
-            let surfaces = r.theta != 1.0 || r.b.iter().any(|v| v.to_bits() != 0);
-            for (f, &d) in found.iter_mut().zip(&depths).filter(|_| surfaces) {
+            for (f, &d) in found.iter_mut().zip(&depths).filter(|_| !r.is_identity()) {
                 for end in [r.near, r.far] {
                     if f.is_nan() && (end - d).abs() <= touch {
                         *f = end;
@@ -247,8 +254,7 @@ impl Runs {
         let mut at = self.heads[slot];
         while at != NONE {
             let (r, next) = self.arena[at as usize];
-            let identity = r.theta == 1.0 && r.b.iter().all(|v| v.to_bits() == 0);
-            if !identity {
+            if !r.is_identity() {
                 out.push(Stretch {
                     near: r.near,
                     far: r.far,
