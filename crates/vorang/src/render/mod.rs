@@ -62,7 +62,7 @@ pub mod runs;
 mod schedule;
 mod settings;
 pub mod span;
-mod tile;
+pub(crate) mod tile;
 
 pub use approx::{MAX_PIECES, METHODS, Method};
 pub use composite::{EARLY_TERMINATION, Order};

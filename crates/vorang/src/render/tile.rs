@@ -27,7 +27,7 @@ pub const TOUCH: f64 = 1e-9;
 
 /// Asks the processor to bring `value` into the first-level cache: a hint, it reads nothing.
 #[inline(always)]
-pub(super) fn prefetch<T>(value: &T) {
+pub(crate) fn prefetch<T>(value: &T) {
     #[cfg(target_arch = "x86_64")]
     // SAFETY: a prefetch reads nothing and cannot fault; the address is of a live reference.
     unsafe {

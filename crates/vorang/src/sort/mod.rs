@@ -10,6 +10,7 @@
 //! predicate the renderer uses ([`crate::predicates`]), and a mirroring transform flips them
 //! once. Each strategy is one entry in [`SORTS`].
 
+mod levels;
 mod mpvo;
 
 /// Convexity is the mesh's own property ([`crate::mesh::is_convex`], cached by

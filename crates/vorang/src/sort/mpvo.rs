@@ -48,16 +48,16 @@ fn face_sign(p: &[[f64; 3]; 4], s: &[[f64; 2]; 4], f: usize, input: &SortInput) 
 /// neighbour is in front, bits 4–6 the number of neighbours behind it not yet placed, bit 7
 /// whether it has been queued.
 const BEHIND: u8 = 1 << 4;
-const QUEUED: u8 = 1 << 7;
+pub(super) const QUEUED: u8 = 1 << 7;
 
 #[inline]
-fn behind_count(state: u8) -> u8 {
+pub(super) fn behind_count(state: u8) -> u8 {
     (state >> 4) & 7
 }
 
 /// The relation for every cell, in parallel. Both cells of a face evaluate the same exact
 /// predicate (with the face's nodes in opposite orders), so they always agree.
-fn relation(input: &SortInput) -> Vec<u8> {
+pub(super) fn relation(input: &SortInput) -> Vec<u8> {
     let nbs = input.mesh.neighbors();
     (0..input.mesh.tet_count())
         .into_par_iter()
@@ -97,38 +97,6 @@ fn depth(input: &SortInput, cell: usize) -> f64 {
     }
 }
 
-/// A queue of cells that are ready to be placed: FIFO for MPVO, farthest-first for MPVONC.
-trait Ready {
-    fn push(&mut self, cell: u32, input: &SortInput);
-    fn pop(&mut self) -> Option<u32>;
-    /// Whether the queue keeps every cell it ever held, in the order they were popped (a
-    /// FIFO's own contents are the order): then the sort need not record it.
-    const KEEPS_ORDER: bool;
-    /// That order, for a queue that keeps it.
-    fn into_order(self) -> Vec<u32>;
-}
-
-/// First in, first out.
-struct Fifo {
-    cells: Vec<u32>,
-    next: usize,
-}
-
-impl Ready for Fifo {
-    const KEEPS_ORDER: bool = true;
-    fn push(&mut self, cell: u32, _: &SortInput) {
-        self.cells.push(cell);
-    }
-    fn pop(&mut self) -> Option<u32> {
-        let c = self.cells.get(self.next).copied();
-        self.next += usize::from(c.is_some());
-        c
-    }
-    fn into_order(self) -> Vec<u32> {
-        self.cells
-    }
-}
-
 /// Max-heap on (depth, −index): the farthest ready cell first, ties by index.
 #[derive(PartialEq)]
 struct Far(f64, u32);
@@ -144,46 +112,54 @@ impl Ord for Far {
     }
 }
 
-impl Ready for BinaryHeap<Far> {
-    const KEEPS_ORDER: bool = false;
-    fn push(&mut self, cell: u32, input: &SortInput) {
-        BinaryHeap::push(self, Far(depth(input, cell as usize), cell));
-    }
-    fn pop(&mut self) -> Option<u32> {
-        BinaryHeap::pop(self).map(|f| f.1)
-    }
-    fn into_order(self) -> Vec<u32> {
-        unreachable!("a heap does not keep the order")
-    }
+/// The farthest cell among those `waiting` (ties: the lowest number): where a visibility cycle
+/// is broken.
+pub(super) fn farthest_waiting(
+    input: &SortInput,
+    waiting: impl Fn(usize) -> bool,
+) -> Option<usize> {
+    (0..input.mesh.tet_count())
+        .filter(|&c| waiting(c))
+        .max_by(|&a, &b| depth(input, a).total_cmp(&depth(input, b)).then(b.cmp(&a)))
 }
 
-/// Kahn's algorithm over the relation. A cell is queued once: when its last neighbour behind
-/// it has been placed, or — when the queue runs dry with cells left, a visibility cycle — as
-/// the farthest cell still waiting, which is counted.
-fn topological<Q: Ready>(input: &SortInput, mut ready: Q) -> Order {
+/// Below this many cells one thread sorts (the same order; starting threads costs more).
+const ONE_THREAD_BELOW: usize = 1 << 15;
+
+/// MPVO: Kahn's algorithm over the relation, a level at a time on every core
+/// ([`super::levels`]).
+fn mpvo(input: &SortInput) -> Order {
+    let threads = if input.mesh.tet_count() < ONE_THREAD_BELOW {
+        1
+    } else {
+        rayon::current_num_threads()
+    };
+    super::levels::by_levels(input, relation(input), threads)
+}
+
+/// MPVONC: Kahn's algorithm with the farthest ready cell first. A cell is queued once: when its
+/// last neighbour behind it has been placed, or — when no cell is ready with cells left, a
+/// visibility cycle — as the farthest cell still waiting, which is counted.
+fn mpvonc(input: &SortInput) -> Order {
     let n = input.mesh.tet_count();
     let nbs = input.mesh.neighbors();
     let mut state = relation(input);
-    let enqueue = |c: usize, state: &mut [u8], ready: &mut Q| {
+    let mut ready = BinaryHeap::with_capacity(1024);
+    let enqueue = |c: usize, state: &mut [u8], ready: &mut BinaryHeap<Far>| {
         state[c] |= QUEUED;
-        ready.push(c as u32, input);
+        ready.push(Far(depth(input, c), c as u32));
     };
     for c in 0..n {
         if behind_count(state[c]) == 0 {
             enqueue(c, &mut state, &mut ready);
         }
     }
-    // A FIFO holds the order itself; a heap's pops are recorded.
-    let mut order = Vec::with_capacity(if Q::KEEPS_ORDER { 0 } else { n });
-    let mut placed = 0;
+    let mut order = Vec::with_capacity(n);
     let mut cycle_cells = 0;
     loop {
-        while let Some(c) = ready.pop() {
+        while let Some(Far(_, c)) = ready.pop() {
             let c = c as usize;
-            placed += 1;
-            if !Q::KEEPS_ORDER {
-                order.push(c as u32);
-            }
+            order.push(c as u32);
             let front = state[c] & 0xF;
             for f in 0..4 {
                 if front & (1 << f) != 0 {
@@ -197,39 +173,23 @@ fn topological<Q: Ready>(input: &SortInput, mut ready: Q) -> Order {
                 }
             }
         }
-        if placed == n {
+        if order.len() == n {
             break;
         }
-        let Some(c) = (0..n)
-            .filter(|&c| state[c] & QUEUED == 0)
-            .max_by(|&a, &b| depth(input, a).total_cmp(&depth(input, b)).then(b.cmp(&a)))
-        else {
+        let Some(c) = farthest_waiting(input, |c| state[c] & QUEUED == 0) else {
             break;
         };
         cycle_cells += 1;
         enqueue(c, &mut state, &mut ready);
     }
     Order {
-        back_to_front: if Q::KEEPS_ORDER {
-            ready.into_order()
-        } else {
-            order
-        },
+        back_to_front: order,
         cycle_cells,
     }
 }
 
-fn mpvo(input: &SortInput) -> Order {
-    let cells = Vec::with_capacity(input.mesh.tet_count());
-    topological(input, Fifo { cells, next: 0 })
-}
-
-fn mpvonc(input: &SortInput) -> Order {
-    topological(input, BinaryHeap::with_capacity(1024))
-}
-
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::mesh::TetMesh;
     use crate::mesh::generate::kuhn_box;

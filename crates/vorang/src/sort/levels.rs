@@ -1,0 +1,566 @@
+//! MPVO's topological sort on every core: the cells are placed a *level* at a time.
+//!
+//! Level 0 holds the cells with no neighbour behind them; level `l + 1` the cells whose last
+//! neighbour behind was placed in level `l`. Across every face the cell in front is in a later
+//! level, so the cells ordered by level are a visibility order, and the order inside a level
+//! does not matter: no two cells of a level share a face, and along a ray through a convex mesh
+//! the cells a ray crosses are face-adjacent, each in a later level than the one before. That is
+//! the order a first-in-first-out Kahn sort produces, with its own order inside each level.
+//!
+//! Each cell belongs to one of at most [`CHUNKS`] chunks (ranges of consecutive cell numbers,
+//! dealt to the threads round-robin) and each chunk to one thread. Only that thread reads or
+//! writes the chunk's bytes of the relation, so the counts of neighbours behind need no atomic
+//! read-modify-write, which made a shared-count version slower than one thread
+//! (docs/performance.md). A cell in front of a
+//! cell of another chunk is told by a message, delivered after the threads have met at the end
+//! of the level. The order inside a level is the chunks' order, each chunk's cells in the order
+//! they became ready, messages in the order of their sending chunk: the same for any number of
+//! threads, so the image does not depend on it even where the order matters (a visibility
+//! cycle, settled per pixel).
+
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::sync::{Mutex, MutexGuard, PoisonError};
+
+use super::mpvo::{QUEUED, behind_count, farthest_waiting};
+use super::{Order, SortInput};
+
+/// The number of chunks: enough for a level's cells to spread evenly over many threads.
+const CHUNKS: usize = 64;
+/// How many cells ahead the neighbour table's rows are fetched.
+const AHEAD: usize = 16;
+
+/// The chunks are ranges of consecutive cell numbers, `1 << shift` long: a thread then walks its
+/// part of the neighbour table in one direction per level, page by page, as one thread walking
+/// the whole level would (chunks dealt out in small blocks were slower: every chunk walked the
+/// whole table).
+#[derive(Clone, Copy)]
+struct Chunking {
+    shift: u32,
+    count: usize,
+}
+
+impl Chunking {
+    fn new(cells: usize) -> Chunking {
+        let shift = cells.div_ceil(CHUNKS).next_power_of_two().trailing_zeros();
+        Chunking {
+            shift,
+            count: cells.div_ceil(1 << shift),
+        }
+    }
+
+    #[inline]
+    fn of(self, cell: u32) -> usize {
+        (cell >> self.shift) as usize
+    }
+
+    /// The cell's place in its chunk.
+    #[inline]
+    fn within(self, cell: u32) -> usize {
+        (cell & ((1 << self.shift) - 1)) as usize
+    }
+}
+
+/// One chunk: its cells' bytes of the relation, its cells placed so far, in order, and how
+/// many it placed in each level.
+#[derive(Default)]
+struct Chunk<'a> {
+    state: &'a mut [u8],
+    placed: Vec<u32>,
+    /// Where the current level starts in `placed`.
+    begin: usize,
+    /// (level, count) for each level in which this chunk placed cells.
+    levels: Vec<(u32, u32)>,
+}
+
+/// Cells one thread tells another: those of each sending chunk, in chunk order.
+#[derive(Default)]
+struct Mail {
+    cells: Vec<u32>,
+    /// (sending chunk, end of its cells in `cells`).
+    ends: Vec<(usize, usize)>,
+}
+
+/// What the threads share: a barrier that also sums a number over them, and the mail, one box
+/// per level parity, sender and receiver (a box is written in one level and read in the next
+/// half of it, while the other parity's boxes are being written).
+struct Team {
+    threads: usize,
+    arrived: AtomicUsize,
+    generation: AtomicUsize,
+    /// Sums of three consecutive meetings, reused in turn.
+    sums: [AtomicUsize; 3],
+    mail: Vec<Mutex<Mail>>,
+    /// A thread panicked: the others stop waiting for it.
+    broken: AtomicBool,
+}
+
+/// Marks the team broken when its thread unwinds.
+struct Bail<'a>(&'a Team);
+
+impl Drop for Bail<'_> {
+    fn drop(&mut self) {
+        if std::thread::panicking() {
+            self.0.broken.store(true, Ordering::Release);
+        }
+    }
+}
+
+impl Team {
+    fn new(threads: usize) -> Team {
+        Team {
+            threads,
+            arrived: AtomicUsize::new(0),
+            generation: AtomicUsize::new(0),
+            sums: Default::default(),
+            mail: (0..2 * threads * threads)
+                .map(|_| Mutex::default())
+                .collect(),
+            broken: AtomicBool::new(false),
+        }
+    }
+
+    fn mail(&self, parity: usize, from: usize, to: usize) -> MutexGuard<'_, Mail> {
+        let i = (parity * self.threads + from) * self.threads + to;
+        // A box is only ever held by one thread between two meetings: never poisoned in use.
+        self.mail[i].lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// Waits for every thread of meeting `meeting` and returns the sum of their `value`s. A
+    /// thread spins briefly, then yields: the levels are short, and a thread that sleeps would
+    /// cost more than the level.
+    fn meet(&self, meeting: usize, value: usize) -> usize {
+        let sum = &self.sums[meeting % 3];
+        sum.fetch_add(value, Ordering::AcqRel);
+        if self.arrived.fetch_add(1, Ordering::AcqRel) + 1 == self.threads {
+            // Everyone has read the sum of two meetings ago: its slot is the next one's.
+            self.sums[(meeting + 1) % 3].store(0, Ordering::Relaxed);
+            self.arrived.store(0, Ordering::Relaxed);
+            self.generation.store(meeting + 1, Ordering::Release);
+        } else {
+            let mut spins = 0u32;
+            while self.generation.load(Ordering::Acquire) == meeting {
+                assert!(
+                    !self.broken.load(Ordering::Acquire),
+                    "another thread of the visibility sort failed"
+                );
+                if spins < 1 << 12 {
+                    std::hint::spin_loop();
+                    spins += 1;
+                } else {
+                    std::thread::yield_now();
+                }
+            }
+        }
+        sum.load(Ordering::Acquire)
+    }
+}
+
+/// One fewer neighbour behind the cell of byte `state` is waiting; whether the cell is now
+/// ready (and queued).
+#[inline]
+fn release(state: &mut u8) -> bool {
+    let s = *state;
+    // A cell queued out of a cycle may still be counting down; it never counts below zero.
+    let s = if behind_count(s) > 0 { s - (1 << 4) } else { s };
+    let ready = behind_count(s) == 0 && s & QUEUED == 0;
+    *state = if ready { s | QUEUED } else { s };
+    ready
+}
+
+/// The threads' common state for one run of the levels.
+struct Levels<'a> {
+    team: Team,
+    nbs: &'a [[u32; 4]],
+    chunking: Chunking,
+}
+
+impl Levels<'_> {
+    /// Thread `t`'s part from level `level` until a level is empty everywhere; `chunks` are its
+    /// chunks `t`, `t + threads`, …. Returns the empty level.
+    fn run(&self, t: usize, chunks: &mut [Chunk<'_>], mut level: u32) -> u32 {
+        let threads = self.team.threads;
+        let _bail = Bail(&self.team);
+        // The team meets again after a cycle was broken: its meetings go on counting.
+        let mut meeting = self.team.generation.load(Ordering::Acquire);
+        loop {
+            let parity = level as usize & 1;
+            let mut work = 0;
+            {
+                let mut out: Vec<_> = (0..threads)
+                    .map(|to| self.team.mail(parity, t, to))
+                    .collect();
+                for o in &mut out {
+                    o.cells.clear();
+                    o.ends.clear();
+                }
+                for (i, chunk) in chunks.iter_mut().enumerate() {
+                    work += self.place(t + i * threads, chunk, level, &mut out);
+                }
+            }
+            let total = self.team.meet(meeting, work);
+            meeting += 1;
+            if total == 0 {
+                return level;
+            }
+            self.deliver(t, chunks, parity);
+            level += 1;
+        }
+    }
+
+    /// Chunk `k`'s cells of `level`: each tells the cells in front of it, its own chunk's
+    /// directly and the others' by mail. Returns how many cells it placed.
+    fn place(
+        &self,
+        k: usize,
+        chunk: &mut Chunk<'_>,
+        level: u32,
+        out: &mut [MutexGuard<Mail>],
+    ) -> usize {
+        // Locals, so that the loop keeps them in registers.
+        let (nbs, chunking, threads) = (self.nbs, self.chunking, out.len());
+        let Chunk {
+            state,
+            placed,
+            begin,
+            levels,
+        } = chunk;
+        let (begin, end) = (*begin, placed.len());
+        for i in begin..end {
+            // The neighbour table is the one array read out of order, and a level's cells are
+            // known ahead: ask for their rows early.
+            if let Some(&later) = placed.get(i + AHEAD).filter(|_| i + AHEAD < end) {
+                crate::render::tile::prefetch(&nbs[later as usize]);
+            }
+            let c = placed[i];
+            let front = state[chunking.within(c)] & 0xF;
+            for f in 0..4 {
+                if front & (1 << f) != 0 {
+                    let m = nbs[c as usize][f];
+                    let km = chunking.of(m);
+                    if km == k {
+                        if release(&mut state[chunking.within(m)]) {
+                            placed.push(m);
+                        }
+                    } else {
+                        out[km % threads].cells.push(m);
+                    }
+                }
+            }
+        }
+        for o in out.iter_mut() {
+            let len = o.cells.len();
+            if o.ends.last().map_or(0, |e| e.1) < len {
+                o.ends.push((k, len));
+            }
+        }
+        chunk.begin = end;
+        if end > begin {
+            levels.push((level, (end - begin) as u32));
+        }
+        end - begin
+    }
+
+    /// The mail of this level for thread `t`, read in the order of the sending chunks.
+    fn deliver(&self, t: usize, chunks: &mut [Chunk<'_>], parity: usize) {
+        let threads = self.team.threads;
+        let inbox: Vec<_> = (0..threads)
+            .map(|from| self.team.mail(parity, from, t))
+            .collect();
+        let mut next = vec![(0usize, 0usize); threads];
+        for k in 0..self.chunking.count {
+            let from = k % threads;
+            let (seg, start) = next[from];
+            let Some(&(sender, end)) = inbox[from].ends.get(seg) else {
+                continue;
+            };
+            if sender != k {
+                continue;
+            }
+            for &m in &inbox[from].cells[start..end] {
+                let chunk = &mut chunks[self.chunking.of(m) / threads];
+                if release(&mut chunk.state[self.chunking.within(m)]) {
+                    chunk.placed.push(m);
+                }
+            }
+            next[from] = (seg + 1, end);
+        }
+    }
+}
+
+/// Kahn's sort by levels over the relation `state` (one byte per cell: the faces with a cell in
+/// front, the count of cells behind, whether queued), on `threads` threads (the order is the
+/// same for any number).
+pub(super) fn by_levels(input: &SortInput, mut state: Vec<u8>, threads: usize) -> Order {
+    let n = input.mesh.tet_count();
+    let chunking = Chunking::new(n);
+    let mut chunks: Vec<Chunk> = state
+        .chunks_mut(1 << chunking.shift)
+        .map(|state| Chunk {
+            placed: Vec::with_capacity(state.len() + state.len() / 4 + 16),
+            state,
+            ..Chunk::default()
+        })
+        .collect();
+    let threads = threads.clamp(1, chunks.len().max(1));
+    for (k, chunk) in chunks.iter_mut().enumerate() {
+        for (i, s) in chunk.state.iter_mut().enumerate() {
+            if behind_count(*s) == 0 {
+                *s |= QUEUED;
+                chunk.placed.push(((k << chunking.shift) + i) as u32);
+            }
+        }
+    }
+    let run = Levels {
+        team: Team::new(threads),
+        nbs: input.mesh.neighbors(),
+        chunking,
+    };
+    let mut level = 0;
+    let mut cycle_cells = 0;
+    loop {
+        level = run_team(&run, &mut chunks, level);
+        let placed: usize = chunks.iter().map(|c| c.placed.len()).sum();
+        if placed == n {
+            break;
+        }
+        // A visibility cycle: the farthest cell still waiting goes next, alone in its level.
+        let waiting =
+            |c: usize| chunks[c >> chunking.shift].state[chunking.within(c as u32)] & QUEUED == 0;
+        let Some(c) = farthest_waiting(input, waiting) else {
+            break;
+        };
+        cycle_cells += 1;
+        let chunk = &mut chunks[chunking.of(c as u32)];
+        chunk.state[chunking.within(c as u32)] |= QUEUED;
+        chunk.placed.push(c as u32);
+    }
+    Order {
+        back_to_front: in_level_order(&chunks, n),
+        cycle_cells,
+    }
+}
+
+/// Runs the levels on the team's threads, each with its own chunks, from `level`.
+fn run_team(run: &Levels, chunks: &mut [Chunk<'_>], level: u32) -> u32 {
+    let threads = run.team.threads;
+    // Thread t's chunks are t, t + threads, …: taken out, and put back afterwards.
+    let mut mine: Vec<Vec<Chunk>> = (0..threads).map(|_| Vec::new()).collect();
+    for (k, c) in chunks.iter_mut().enumerate() {
+        mine[k % threads].push(std::mem::take(c));
+    }
+    let mut rest = mine.split_off(1);
+    let mut first = mine.pop().expect("one thread");
+    let end = std::thread::scope(|s| {
+        for (t, own) in rest.iter_mut().enumerate() {
+            s.spawn(move || run.run(t + 1, own, level));
+        }
+        run.run(0, &mut first, level)
+    });
+    rest.insert(0, first);
+    for (t, own) in rest.into_iter().enumerate() {
+        for (i, c) in own.into_iter().enumerate() {
+            chunks[t + i * threads] = c;
+        }
+    }
+    end
+}
+
+/// All placed cells, level by level, and in a level chunk by chunk.
+fn in_level_order(chunks: &[Chunk<'_>], n: usize) -> Vec<u32> {
+    let mut order = Vec::with_capacity(n);
+    let mut next = vec![(0usize, 0usize); chunks.len()];
+    let levels = chunks
+        .iter()
+        .filter_map(|c| c.levels.last())
+        .map(|l| l.0 + 1)
+        .max()
+        .unwrap_or(0);
+    for level in 0..levels {
+        for (chunk, (seg, start)) in chunks.iter().zip(next.iter_mut()) {
+            if let Some(&(l, count)) = chunk.levels.get(*seg)
+                && l == level
+            {
+                let end = *start + count as usize;
+                order.extend_from_slice(&chunk.placed[*start..end]);
+                *seg += 1;
+                *start = end;
+            }
+        }
+    }
+    order
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mesh::generate::{SplitMix64, kuhn_box};
+    use crate::mesh::{NO_NEIGHBOR, TetMesh};
+    use crate::sort::mpvo::relation;
+
+    /// The serial first-in-first-out Kahn sort, cycles broken as in [`by_levels`]; returns the
+    /// order and each cell's generation in the queue (cells queued while the previous
+    /// generation was taken out, or a cell forced out of a cycle, alone).
+    fn serial_fifo(input: &SortInput, mut state: Vec<u8>) -> (Vec<u32>, Vec<u32>, usize) {
+        let n = input.mesh.tet_count();
+        let nbs = input.mesh.neighbors();
+        let mut queue: Vec<u32> = Vec::new();
+        let mut generation = vec![u32::MAX; n];
+        for c in 0..n {
+            if behind_count(state[c]) == 0 {
+                state[c] |= QUEUED;
+                queue.push(c as u32);
+                generation[c] = 0;
+            }
+        }
+        let (mut next, mut cycles) = (0, 0);
+        loop {
+            while next < queue.len() {
+                let c = queue[next] as usize;
+                next += 1;
+                for f in 0..4 {
+                    if state[c] & (1 << f) != 0 {
+                        let m = nbs[c][f] as usize;
+                        if release(&mut state[m]) {
+                            queue.push(m as u32);
+                            generation[m] = generation[c] + 1;
+                        }
+                    }
+                }
+            }
+            if queue.len() == n {
+                break;
+            }
+            let last = generation[*queue.last().unwrap() as usize];
+            let c = farthest_waiting(input, |c| state[c] & QUEUED == 0).unwrap();
+            state[c] |= QUEUED;
+            queue.push(c as u32);
+            generation[c] = last + 1;
+            cycles += 1;
+        }
+        (queue, generation, cycles)
+    }
+
+    /// Sorted by levels on 1, 2, 3 and 5 threads: the same order every time, holding every
+    /// cell once, with the serial sort's generations in the same sequence (the same cells in
+    /// each level) and as many cells forced out of cycles.
+    fn check(input: &SortInput, state: Vec<u8>) -> usize {
+        let (_, generation, cycles) = serial_fifo(input, state.clone());
+        let one = by_levels(input, state.clone(), 1);
+        for threads in [2, 3, 5] {
+            assert_eq!(
+                by_levels(input, state.clone(), threads),
+                one,
+                "{threads} threads"
+            );
+        }
+        assert_eq!(one.cycle_cells, cycles);
+        let mut seen = vec![false; input.mesh.tet_count()];
+        let mut by_gen: Vec<u32> = one
+            .back_to_front
+            .iter()
+            .map(|&c| {
+                assert!(
+                    !std::mem::replace(&mut seen[c as usize], true),
+                    "cell {c} twice"
+                );
+                generation[c as usize]
+            })
+            .collect();
+        assert!(seen.iter().all(|&s| s), "every cell placed");
+        assert!(by_gen.is_sorted(), "the order goes level by level");
+        by_gen.dedup();
+        assert_eq!(by_gen.len() as u32, generation.iter().max().unwrap() + 1);
+        cycles
+    }
+
+    fn views(
+        mesh: &TetMesh,
+        seed: u64,
+    ) -> impl Iterator<Item = (Vec<[f64; 3]>, Vec<[f64; 2]>, bool)> {
+        let mut rng = SplitMix64(seed);
+        let nodes = mesh.nodes().to_vec();
+        (0..6).map(move |k| {
+            let r = crate::scene::Affine::rotation(
+                [rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64()],
+                360.0 * rng.next_f64(),
+            )
+            .unwrap();
+            let perspective = k % 2 == 0;
+            let eye: Vec<[f64; 3]> = nodes
+                .iter()
+                .map(|&p| {
+                    let q = r.apply([p[0] - 0.5, p[1] - 0.5, p[2] - 0.5]);
+                    [q[0], q[1], q[2] - if perspective { 3.0 } else { 0.0 }]
+                })
+                .collect();
+            let screen = eye
+                .iter()
+                .map(|p| {
+                    if perspective {
+                        [p[0] / -p[2], -p[1] / -p[2]]
+                    } else {
+                        [p[0], -p[1]]
+                    }
+                })
+                .collect();
+            (eye, screen, perspective)
+        })
+    }
+
+    #[test]
+    fn levels_are_the_serial_sorts_on_any_number_of_threads() {
+        let (nodes, tets) = kuhn_box([14, 11, 9], [1.0; 3], 0.15, 3);
+        let mesh = TetMesh::new(nodes, tets).unwrap();
+        assert!(Chunking::new(mesh.tet_count()).count > 30, "many chunks");
+        for (eye, screen, perspective) in views(&mesh, 11) {
+            let input = SortInput {
+                mesh: &mesh,
+                eye_nodes: &eye,
+                screen: &screen,
+                perspective,
+                mirrored: false,
+            };
+            assert_eq!(check(&input, relation(&input)), 0);
+            let order = by_levels(&input, relation(&input), 3);
+            crate::sort::mpvo::tests::assert_valid(&input, &order.back_to_front);
+        }
+    }
+
+    /// Faces turned at random: the relation is full of cycles, broken one cell at a time.
+    #[test]
+    fn cycles_are_broken_as_the_serial_sort_breaks_them() {
+        let (nodes, tets) = kuhn_box([9, 8, 7], [1.0; 3], 0.1, 5);
+        let mesh = TetMesh::new(nodes, tets).unwrap();
+        let (eye, screen, _) = views(&mesh, 2).nth(1).unwrap();
+        let input = SortInput {
+            mesh: &mesh,
+            eye_nodes: &eye,
+            screen: &screen,
+            perspective: false,
+            mirrored: false,
+        };
+        let mut rng = SplitMix64(8);
+        let mut state = vec![0u8; mesh.tet_count()];
+        for c in 0..mesh.tet_count() {
+            for f in 0..4 {
+                let m = mesh.neighbors()[c][f];
+                // Each face once, from its lower-numbered cell; one in ten left undecided.
+                if m == NO_NEIGHBOR || (m as usize) < c {
+                    continue;
+                }
+                let x = rng.next_f64();
+                let g = (0..4)
+                    .find(|&g| mesh.neighbors()[m as usize][g] == c as u32)
+                    .unwrap();
+                let (front, behind) = match x {
+                    x if x < 0.45 => ((c, f), m as usize),
+                    x if x < 0.9 => ((m as usize, g), c),
+                    _ => continue,
+                };
+                state[front.0] |= 1 << front.1;
+                state[behind] += 1 << 4;
+            }
+        }
+        assert!(check(&input, state) > 10, "cycles were broken");
+    }
+}
