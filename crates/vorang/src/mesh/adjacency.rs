@@ -13,6 +13,12 @@ use super::{MeshError, NO_NEIGHBOR};
 /// Nodes whose buckets one parallel task matches (a few hundred thousand faces).
 const NODES_PER_TASK: usize = 1 << 14;
 
+/// The counting sort's passes over the cells run in at most this many parts (each part counts
+/// into a table as long as the nodes).
+const PARTS: usize = 4;
+/// Cells per part at least.
+const CELLS_PER_PART: usize = 1 << 16;
+
 /// Marks a place of a bucket that holds no matched face after [`match_buckets`].
 const UNMATCHED: u32 = u32::MAX;
 
@@ -81,26 +87,54 @@ pub fn face_neighbors(node_count: usize, tets: &[[u32; 4]]) -> Result<Vec<[u32; 
     if faces > UNMATCHED as usize {
         return Err(MeshError::TooLarge { tets: tets.len() });
     }
-    // Count faces per smallest node.
+    // Count faces per smallest node, each part of the cells on its own, in parallel.
+    let parts = rayon::current_num_threads()
+        .clamp(1, PARTS)
+        .min(tets.len().div_ceil(CELLS_PER_PART).max(1));
+    let per_part = tets.len().div_ceil(parts).max(1);
+    let mut fill: Vec<Vec<u32>> = tets
+        .par_chunks(per_part)
+        .map(|part| {
+            let mut count = vec![0u32; node_count];
+            for tet in part {
+                for f in 0..4 {
+                    count[min_node_except(tet, f) as usize] += 1;
+                }
+            }
+            count
+        })
+        .collect();
+    // Where each bucket starts, and where in it each part writes: after the parts before it,
+    // so that a bucket holds its faces in cell order, as one pass over the cells would.
     let mut start = vec![0u32; node_count + 1];
-    for tet in tets {
-        for f in 0..4 {
-            start[min_node_except(tet, f) as usize + 1] += 1;
+    let mut total = 0u32;
+    for a in 0..node_count {
+        start[a] = total;
+        for part in fill.iter_mut() {
+            let count = part[a];
+            part[a] = total;
+            total += count;
         }
     }
-    for i in 0..node_count {
-        start[i + 1] += start[i];
-    }
-    // Scatter face ids (cell·4 + face) into their buckets.
+    start[node_count] = total;
+    // Scatter face ids (cell·4 + face) into their buckets, the parts in parallel.
     let mut order = vec![0u32; faces];
-    let mut fill = start.clone();
-    for (t, tet) in tets.iter().enumerate() {
-        for f in 0..4 {
-            let a = min_node_except(tet, f) as usize;
-            order[fill[a] as usize] = (t * 4 + f) as u32;
-            fill[a] += 1;
-        }
-    }
+    let slots = Slots(order.as_mut_ptr(), faces);
+    tets.par_chunks(per_part)
+        .zip(fill.par_iter_mut())
+        .enumerate()
+        .for_each(|(p, (part, fill))| {
+            for (i, tet) in part.iter().enumerate() {
+                for f in 0..4 {
+                    let a = min_node_except(tet, f) as usize;
+                    // SAFETY: part p's faces of node a go to its own stretch of a's bucket,
+                    // `fill[a]` counting through it (the sums above), so every place of
+                    // `order` is written once, by one part.
+                    unsafe { slots.put(fill[a] as usize, ((p * per_part + i) * 4 + f) as u32) };
+                    fill[a] += 1;
+                }
+            }
+        });
     drop(fill);
 
     // Each node's bucket is matched on its own, so the buckets are matched in parallel, in
@@ -108,9 +142,11 @@ pub fn face_neighbors(node_count: usize, tets: &[[u32; 4]]) -> Result<Vec<[u32; 
     // come back in node order, so the first error reported is the one a single thread would
     // find first.
     let mut chunks: Vec<(std::ops::Range<usize>, &mut [u32])> = Vec::new();
+    let mut bounds = Vec::new();
     let mut rest: &mut [u32] = &mut order;
     for first in (0..node_count).step_by(NODES_PER_TASK) {
         let last = (first + NODES_PER_TASK).min(node_count);
+        bounds.push(start[first] as usize..start[last] as usize);
         let (mine, after) = rest.split_at_mut((start[last] - start[first]) as usize);
         chunks.push((first..last, mine));
         rest = after;
@@ -121,16 +157,41 @@ pub fn face_neighbors(node_count: usize, tets: &[[u32; 4]]) -> Result<Vec<[u32; 
         .collect();
     matched.into_iter().collect::<Result<(), MeshError>>()?;
     drop(start);
-    // Every bucket begins with its pairs, so the matched faces of all buckets pair up in the
-    // order they stand.
+    // Every bucket begins with its pairs, so the matched faces of each chunk of buckets pair up
+    // in the order they stand; the chunks in parallel.
     let mut neighbors = vec![[NO_NEIGHBOR; 4]; tets.len()];
-    let mut matched = order.iter().filter(|&&id| id != UNMATCHED);
-    while let (Some(&p), Some(&q)) = (matched.next(), matched.next()) {
-        let (p, q) = (p as usize, q as usize);
-        neighbors[p / 4][p % 4] = (q / 4) as u32;
-        neighbors[q / 4][q % 4] = (p / 4) as u32;
-    }
+    let sides = Slots(neighbors.as_mut_ptr().cast::<u32>(), tets.len() * 4);
+    bounds.par_iter().for_each(|range| {
+        let mut matched = order[range.clone()].iter().filter(|&&id| id != UNMATCHED);
+        while let (Some(&p), Some(&q)) = (matched.next(), matched.next()) {
+            // SAFETY: place `id` of the neighbour table is cell id / 4, face id % 4; every face
+            // id stands once in `order`, so every place is written once, by one chunk.
+            unsafe {
+                sides.put(p as usize, q / 4);
+                sides.put(q as usize, p / 4);
+            }
+        }
+    });
     Ok(neighbors)
+}
+
+/// A table that parallel passes write in places they own alone (each place once).
+struct Slots(*mut u32, usize);
+
+// SAFETY: the writers of a `Slots` write disjoint places (see each use).
+unsafe impl Sync for Slots {}
+
+impl Slots {
+    /// Writes `value` at place `i`.
+    ///
+    /// # Safety
+    /// No other thread reads or writes place `i` during the pass.
+    #[inline]
+    unsafe fn put(&self, i: usize, value: u32) {
+        assert!(i < self.1, "a place of the table");
+        // SAFETY: `i` is in bounds; the caller owns the place.
+        unsafe { self.0.add(i).write(value) };
+    }
 }
 
 #[inline]
