@@ -45,6 +45,7 @@
 
 pub mod accuracy;
 pub mod atomic;
+pub mod cache;
 pub mod data;
 pub mod distributed;
 pub mod error;

@@ -62,7 +62,7 @@ pub mod runs;
 mod schedule;
 mod settings;
 pub mod span;
-pub(crate) mod tile;
+mod tile;
 
 pub use approx::{MAX_PIECES, METHODS, Method};
 pub use composite::{EARLY_TERMINATION, Order};

@@ -18,26 +18,13 @@ use super::gouraud::Fan;
 use super::raster::{Rect, rasterize, rasterize_convex, rasterize_convex_rows};
 use super::runs::{self, Runs};
 use super::span;
+use crate::cache::prefetch;
 use crate::mesh::NO_NEIGHBOR;
 use crate::scene::Projector;
 
 /// A ray interval shorter than this fraction of the cell's depth extent only touches the cell
 /// (for `test`'s surfaces, and near-plane-clipped cells).
 pub const TOUCH: f64 = 1e-9;
-
-/// Asks the processor to bring `value` into the first-level cache: a hint, it reads nothing.
-#[inline(always)]
-pub(crate) fn prefetch<T>(value: &T) {
-    #[cfg(target_arch = "x86_64")]
-    // SAFETY: a prefetch reads nothing and cannot fault; the address is of a live reference.
-    unsafe {
-        std::arch::x86_64::_mm_prefetch::<{ std::arch::x86_64::_MM_HINT_T0 }>(
-            (value as *const T).cast::<i8>(),
-        )
-    };
-    #[cfg(not(target_arch = "x86_64"))]
-    let _ = value;
-}
 
 /// Pixels whose runs overlap along the ray, and example pairs of cells.
 pub(super) type Overlaps = (usize, Vec<(u32, u32)>);

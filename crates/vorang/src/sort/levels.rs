@@ -229,7 +229,7 @@ impl Levels<'_> {
             // The neighbour table is the one array read out of order, and a level's cells are
             // known ahead: ask for their rows early.
             if let Some(&later) = placed.get(i + AHEAD).filter(|_| i + AHEAD < end) {
-                crate::render::tile::prefetch(&nbs[later as usize]);
+                crate::cache::prefetch(&nbs[later as usize]);
             }
             let c = placed[i];
             let front = state[chunking.within(c)] & 0xF;
@@ -296,7 +296,8 @@ pub(super) fn by_levels(input: &SortInput, mut state: Vec<u8>, threads: usize) -
     let mut chunks: Vec<Chunk> = state
         .chunks_mut(1 << chunking.shift)
         .map(|state| Chunk {
-            placed: Vec::with_capacity(state.len() + state.len() / 4 + 16),
+            // A chunk places its own cells, each once.
+            placed: Vec::with_capacity(state.len()),
             state,
             ..Chunk::default()
         })
