@@ -26,6 +26,10 @@ use super::{Order, SortInput};
 
 /// The number of chunks: enough for a level's cells to spread evenly over many threads.
 const CHUNKS: usize = 64;
+/// How long a thread spins at a meeting before it yields its core, in pauses (a few
+/// microseconds): a level takes tens of microseconds, and a thread that spins while the one it
+/// waits for has no core (more threads than cores) holds up the whole sort.
+const SPINS: u32 = 64;
 /// How many cells ahead the neighbour table's rows are fetched.
 const AHEAD: usize = 16;
 
@@ -143,7 +147,7 @@ impl Team {
                     !self.broken.load(Ordering::Acquire),
                     "another thread of the visibility sort failed"
                 );
-                if spins < 1 << 12 {
+                if spins < SPINS {
                     std::hint::spin_loop();
                     spins += 1;
                 } else {

@@ -123,17 +123,19 @@ pub(super) fn farthest_waiting(
         .max_by(|&a, &b| depth(input, a).total_cmp(&depth(input, b)).then(b.cmp(&a)))
 }
 
-/// Below this many cells one thread sorts (the same order; starting threads costs more).
-const ONE_THREAD_BELOW: usize = 1 << 15;
+/// Cells per thread of the sort at least (the order is the same on any number of threads).
+const CELLS_PER_THREAD: usize = 1 << 15;
 
 /// MPVO: Kahn's algorithm over the relation, a level at a time on every core
 /// ([`super::levels`]).
 fn mpvo(input: &SortInput) -> Order {
-    let threads = if input.mesh.tet_count() < ONE_THREAD_BELOW {
-        1
-    } else {
-        rayon::current_num_threads()
-    };
+    // More threads than cores would wait for each other at every level, and a thread needs
+    // enough cells to be worth its start and its meetings.
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let threads = rayon::current_num_threads()
+        .min(cores)
+        .min(input.mesh.tet_count() / CELLS_PER_THREAD)
+        .max(1);
     super::levels::by_levels(input, relation(input), threads)
 }
 
