@@ -21,7 +21,7 @@
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
-use super::mpvo::{QUEUED, behind_count, farthest_waiting};
+use super::mpvo::{QUEUED, behind_count, farthest_waiting, release};
 use super::{Order, SortInput};
 
 /// The number of chunks: enough for a level's cells to spread evenly over many threads.
@@ -159,18 +159,6 @@ impl Team {
     }
 }
 
-/// One fewer neighbour behind the cell of byte `state` is waiting; whether the cell is now
-/// ready (and queued).
-#[inline]
-fn release(state: &mut u8) -> bool {
-    let s = *state;
-    // A cell queued out of a cycle may still be counting down; it never counts below zero.
-    let s = if behind_count(s) > 0 { s - (1 << 4) } else { s };
-    let ready = behind_count(s) == 0 && s & QUEUED == 0;
-    *state = if ready { s | QUEUED } else { s };
-    ready
-}
-
 /// The threads' common state for one run of the levels.
 struct Levels<'a> {
     team: Team,
@@ -232,8 +220,8 @@ impl Levels<'_> {
         for i in begin..end {
             // The neighbour table is the one array read out of order, and a level's cells are
             // known ahead: ask for their rows early.
-            if let Some(&later) = placed.get(i + AHEAD).filter(|_| i + AHEAD < end) {
-                crate::cache::prefetch(&nbs[later as usize]);
+            if i + AHEAD < end {
+                crate::cache::prefetch(&nbs[placed[i + AHEAD] as usize]);
             }
             let c = placed[i];
             let front = state[chunking.within(c)] & 0xF;
@@ -401,6 +389,7 @@ mod tests {
     use crate::mesh::generate::{SplitMix64, kuhn_box};
     use crate::mesh::{NO_NEIGHBOR, TetMesh};
     use crate::sort::mpvo::relation;
+    use crate::sort::mpvo::tests::views;
 
     /// The serial first-in-first-out Kahn sort, cycles broken as in [`by_levels`]; returns the
     /// order and each cell's generation in the queue (cells queued while the previous
@@ -478,46 +467,12 @@ mod tests {
         cycles
     }
 
-    fn views(
-        mesh: &TetMesh,
-        seed: u64,
-    ) -> impl Iterator<Item = (Vec<[f64; 3]>, Vec<[f64; 2]>, bool)> {
-        let mut rng = SplitMix64(seed);
-        let nodes = mesh.nodes().to_vec();
-        (0..6).map(move |k| {
-            let r = crate::scene::Affine::rotation(
-                [rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64()],
-                360.0 * rng.next_f64(),
-            )
-            .unwrap();
-            let perspective = k % 2 == 0;
-            let eye: Vec<[f64; 3]> = nodes
-                .iter()
-                .map(|&p| {
-                    let q = r.apply([p[0] - 0.5, p[1] - 0.5, p[2] - 0.5]);
-                    [q[0], q[1], q[2] - if perspective { 3.0 } else { 0.0 }]
-                })
-                .collect();
-            let screen = eye
-                .iter()
-                .map(|p| {
-                    if perspective {
-                        [p[0] / -p[2], -p[1] / -p[2]]
-                    } else {
-                        [p[0], -p[1]]
-                    }
-                })
-                .collect();
-            (eye, screen, perspective)
-        })
-    }
-
     #[test]
     fn levels_are_the_serial_sorts_on_any_number_of_threads() {
         let (nodes, tets) = kuhn_box([14, 11, 9], [1.0; 3], 0.15, 3);
         let mesh = TetMesh::new(nodes, tets).unwrap();
         assert!(Chunking::new(mesh.tet_count()).count > 30, "many chunks");
-        for (eye, screen, perspective) in views(&mesh, 11) {
+        for (eye, screen, perspective) in views(&mesh, 11, 6, 3.0) {
             let input = SortInput {
                 mesh: &mesh,
                 eye_nodes: &eye,
@@ -536,7 +491,7 @@ mod tests {
     fn cycles_are_broken_as_the_serial_sort_breaks_them() {
         let (nodes, tets) = kuhn_box([9, 8, 7], [1.0; 3], 0.1, 5);
         let mesh = TetMesh::new(nodes, tets).unwrap();
-        let (eye, screen, _) = views(&mesh, 2).nth(1).unwrap();
+        let (eye, screen, _) = views(&mesh, 2, 2, 3.0).nth(1).unwrap();
         let input = SortInput {
             mesh: &mesh,
             eye_nodes: &eye,

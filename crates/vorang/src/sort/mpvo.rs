@@ -55,6 +55,18 @@ pub(super) fn behind_count(state: u8) -> u8 {
     (state >> 4) & 7
 }
 
+/// One fewer neighbour behind the cell of byte `state` is waiting; whether the cell is now
+/// ready (and is marked queued).
+#[inline]
+pub(super) fn release(state: &mut u8) -> bool {
+    let s = *state;
+    // A cell queued out of a cycle may still be counting down; it never counts below zero.
+    let s = if behind_count(s) > 0 { s - BEHIND } else { s };
+    let ready = behind_count(s) == 0 && s & QUEUED == 0;
+    *state = if ready { s | QUEUED } else { s };
+    ready
+}
+
 /// The relation for every cell, in parallel. Both cells of a face evaluate the same exact
 /// predicate (with the face's nodes in opposite orders), so they always agree.
 pub(super) fn relation(input: &SortInput) -> Vec<u8> {
@@ -166,11 +178,8 @@ fn mpvonc(input: &SortInput) -> Order {
             for f in 0..4 {
                 if front & (1 << f) != 0 {
                     let m = nbs[c][f] as usize;
-                    if behind_count(state[m]) > 0 {
-                        state[m] -= BEHIND;
-                    }
-                    if behind_count(state[m]) == 0 && state[m] & QUEUED == 0 {
-                        enqueue(m, &mut state, &mut ready);
+                    if release(&mut state[m]) {
+                        ready.push(Far(depth(input, m), m as u32));
                     }
                 }
             }
@@ -215,45 +224,55 @@ pub(super) mod tests {
         }
     }
 
-    #[test]
-    fn mpvo_orders_a_jittered_box_for_many_views() {
-        let (nodes, tets) = kuhn_box([5, 4, 3], [1.0; 3], 0.12, 9);
-        let mesh = TetMesh::new(nodes, tets).unwrap();
-        let mut rng = crate::mesh::generate::SplitMix64(5);
-        for k in 0..20 {
+    /// `count` views of `mesh` (which lies in the unit cube), turned at random from `seed`:
+    /// eye-space nodes, screen positions and whether the view is perspective (every other one,
+    /// with the eye at `distance` from the centre).
+    pub(crate) fn views(
+        mesh: &TetMesh,
+        seed: u64,
+        count: usize,
+        distance: f64,
+    ) -> impl Iterator<Item = (Vec<[f64; 3]>, Vec<[f64; 2]>, bool)> + '_ {
+        let mut rng = crate::mesh::generate::SplitMix64(seed);
+        (0..count).map(move |k| {
             let r = crate::scene::Affine::rotation(
                 [rng.next_f64() - 0.5, rng.next_f64() - 0.5, rng.next_f64()],
                 360.0 * rng.next_f64(),
             )
             .unwrap();
-            let shift = if k % 2 == 0 {
-                [0.0, 0.0, -4.0]
-            } else {
-                [0.0; 3]
-            };
-            let eye_nodes: Vec<[f64; 3]> = mesh
+            let perspective = k % 2 == 0;
+            let eye: Vec<[f64; 3]> = mesh
                 .nodes()
                 .iter()
                 .map(|&p| {
                     let q = r.apply([p[0] - 0.5, p[1] - 0.5, p[2] - 0.5]);
-                    [q[0] + shift[0], q[1] + shift[1], q[2] + shift[2]]
+                    [q[0], q[1], q[2] - if perspective { distance } else { 0.0 }]
                 })
                 .collect();
-            let screen: Vec<[f64; 2]> = eye_nodes
+            let screen = eye
                 .iter()
                 .map(|p| {
-                    if k % 2 == 0 {
+                    if perspective {
                         [p[0] / -p[2], -p[1] / -p[2]]
                     } else {
                         [p[0], -p[1]]
                     }
                 })
                 .collect();
+            (eye, screen, perspective)
+        })
+    }
+
+    #[test]
+    fn mpvo_orders_a_jittered_box_for_many_views() {
+        let (nodes, tets) = kuhn_box([5, 4, 3], [1.0; 3], 0.12, 9);
+        let mesh = TetMesh::new(nodes, tets).unwrap();
+        for (eye_nodes, screen, perspective) in views(&mesh, 5, 20, 4.0) {
             let input = SortInput {
                 mesh: &mesh,
                 eye_nodes: &eye_nodes,
                 screen: &screen,
-                perspective: k % 2 == 0,
+                perspective,
                 mirrored: false,
             };
             for s in [mpvo, mpvonc] {
