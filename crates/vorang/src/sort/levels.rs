@@ -64,11 +64,23 @@ impl Chunking {
     }
 }
 
-/// One chunk: its cells' bytes of the relation, its cells placed so far, in order, and how
-/// many it placed in each level.
-#[derive(Default)]
-struct Chunk<'a> {
+/// What a placed cell tells the cells in front of it besides that it is placed: nothing for
+/// MPVO, the bound for MPVONC's order ([`super::farthest`]).
+pub(super) trait Carry: Copy + Send + Sync {
+    /// `self`, of a cell still waiting, told `from` by a cell behind it.
+    fn take(&mut self, from: Self);
+}
+
+impl Carry for () {
+    #[inline]
+    fn take(&mut self, _: ()) {}
+}
+
+/// One chunk: its cells' bytes of the relation and what they carry, its cells placed so far,
+/// in order, and how many it placed in each level.
+struct Chunk<'a, C> {
     state: &'a mut [u8],
+    carried: &'a mut [C],
     placed: Vec<u32>,
     /// Where the current level starts in `placed`.
     begin: usize,
@@ -76,32 +88,55 @@ struct Chunk<'a> {
     levels: Vec<(u32, u32)>,
 }
 
-/// Cells one thread tells another: those of each sending chunk, in chunk order.
-#[derive(Default)]
-struct Mail {
+impl<C> Default for Chunk<'_, C> {
+    fn default() -> Self {
+        Chunk {
+            state: &mut [],
+            carried: &mut [],
+            placed: Vec::new(),
+            begin: 0,
+            levels: Vec::new(),
+        }
+    }
+}
+
+/// Cells one thread tells another, and what they are told: those of each sending chunk, in
+/// chunk order.
+struct Mail<C> {
     cells: Vec<u32>,
+    carried: Vec<C>,
     /// (sending chunk, end of its cells in `cells`).
     ends: Vec<(usize, usize)>,
+}
+
+impl<C> Default for Mail<C> {
+    fn default() -> Self {
+        Mail {
+            cells: Vec::new(),
+            carried: Vec::new(),
+            ends: Vec::new(),
+        }
+    }
 }
 
 /// What the threads share: a barrier that also sums a number over them, and the mail, one box
 /// per level parity, sender and receiver (a box is written in one level and read in the next
 /// half of it, while the other parity's boxes are being written).
-struct Team {
+struct Team<C> {
     threads: usize,
     arrived: AtomicUsize,
     generation: AtomicUsize,
     /// Sums of three consecutive meetings, reused in turn.
     sums: [AtomicUsize; 3],
-    mail: Vec<Mutex<Mail>>,
+    mail: Vec<Mutex<Mail<C>>>,
     /// A thread panicked: the others stop waiting for it.
     broken: AtomicBool,
 }
 
 /// Marks the team broken when its thread unwinds.
-struct Bail<'a>(&'a Team);
+struct Bail<'a, C>(&'a Team<C>);
 
-impl Drop for Bail<'_> {
+impl<C> Drop for Bail<'_, C> {
     fn drop(&mut self) {
         if std::thread::panicking() {
             self.0.broken.store(true, Ordering::Release);
@@ -109,8 +144,8 @@ impl Drop for Bail<'_> {
     }
 }
 
-impl Team {
-    fn new(threads: usize) -> Team {
+impl<C> Team<C> {
+    fn new(threads: usize) -> Team<C> {
         Team {
             threads,
             arrived: AtomicUsize::new(0),
@@ -123,7 +158,7 @@ impl Team {
         }
     }
 
-    fn mail(&self, parity: usize, from: usize, to: usize) -> MutexGuard<'_, Mail> {
+    fn mail(&self, parity: usize, from: usize, to: usize) -> MutexGuard<'_, Mail<C>> {
         let i = (parity * self.threads + from) * self.threads + to;
         // A box is only ever held by one thread between two meetings: never poisoned in use.
         self.mail[i].lock().unwrap_or_else(PoisonError::into_inner)
@@ -160,16 +195,16 @@ impl Team {
 }
 
 /// The threads' common state for one run of the levels.
-struct Levels<'a> {
-    team: Team,
+struct Levels<'a, C> {
+    team: Team<C>,
     nbs: &'a [[u32; 4]],
     chunking: Chunking,
 }
 
-impl Levels<'_> {
+impl<C: Carry> Levels<'_, C> {
     /// Thread `t`'s part from level `level` until a level is empty everywhere; `chunks` are its
     /// chunks `t`, `t + threads`, …. Returns the empty level.
-    fn run(&self, t: usize, chunks: &mut [Chunk<'_>], mut level: u32) -> u32 {
+    fn run(&self, t: usize, chunks: &mut [Chunk<'_, C>], mut level: u32) -> u32 {
         let threads = self.team.threads;
         let _bail = Bail(&self.team);
         // The team meets again after a cycle was broken: its meetings go on counting.
@@ -183,6 +218,7 @@ impl Levels<'_> {
                     .collect();
                 for o in &mut out {
                     o.cells.clear();
+                    o.carried.clear();
                     o.ends.clear();
                 }
                 for (i, chunk) in chunks.iter_mut().enumerate() {
@@ -204,14 +240,15 @@ impl Levels<'_> {
     fn place(
         &self,
         k: usize,
-        chunk: &mut Chunk<'_>,
+        chunk: &mut Chunk<'_, C>,
         level: u32,
-        out: &mut [MutexGuard<Mail>],
+        out: &mut [MutexGuard<Mail<C>>],
     ) -> usize {
         // Locals, so that the loop keeps them in registers.
         let (nbs, chunking, threads) = (self.nbs, self.chunking, out.len());
         let Chunk {
             state,
+            carried,
             placed,
             begin,
             levels,
@@ -225,16 +262,22 @@ impl Levels<'_> {
             }
             let c = placed[i];
             let front = state[chunking.within(c)] & 0xF;
+            let told = carried[chunking.within(c)];
             for f in 0..4 {
                 if front & (1 << f) != 0 {
                     let m = nbs[c as usize][f];
                     let km = chunking.of(m);
                     if km == k {
-                        if release(&mut state[chunking.within(m)]) {
+                        let j = chunking.within(m);
+                        if state[j] & QUEUED == 0 {
+                            carried[j].take(told);
+                        }
+                        if release(&mut state[j]) {
                             placed.push(m);
                         }
                     } else {
                         out[km % threads].cells.push(m);
+                        out[km % threads].carried.push(told);
                     }
                 }
             }
@@ -253,7 +296,7 @@ impl Levels<'_> {
     }
 
     /// The mail of this level for thread `t`, read in the order of the sending chunks.
-    fn deliver(&self, t: usize, chunks: &mut [Chunk<'_>], parity: usize) {
+    fn deliver(&self, t: usize, chunks: &mut [Chunk<'_, C>], parity: usize) {
         let threads = self.team.threads;
         let inbox: Vec<_> = (0..threads)
             .map(|from| self.team.mail(parity, from, t))
@@ -268,9 +311,14 @@ impl Levels<'_> {
             if sender != k {
                 continue;
             }
-            for &m in &inbox[from].cells[start..end] {
+            let told = &inbox[from].carried[start..end];
+            for (&m, &told) in inbox[from].cells[start..end].iter().zip(told) {
                 let chunk = &mut chunks[self.chunking.of(m) / threads];
-                if release(&mut chunk.state[self.chunking.within(m)]) {
+                let j = self.chunking.within(m);
+                if chunk.state[j] & QUEUED == 0 {
+                    chunk.carried[j].take(told);
+                }
+                if release(&mut chunk.state[j]) {
                     chunk.placed.push(m);
                 }
             }
@@ -279,18 +327,51 @@ impl Levels<'_> {
     }
 }
 
+/// A sort by levels: the cells level by level, where each level starts, and which levels hold
+/// a cell forced out of a visibility cycle (alone).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(super) struct Levelled {
+    pub order: Vec<u32>,
+    /// The start of each level in `order`, and its end last.
+    pub starts: Vec<usize>,
+    /// The levels that hold a forced cell, ascending.
+    pub forced: Vec<u32>,
+}
+
+impl Levelled {
+    pub fn into_order(self) -> Order {
+        Order {
+            back_to_front: self.order,
+            cycle_cells: self.forced.len(),
+        }
+    }
+}
+
 /// Kahn's sort by levels over the relation `state` (one byte per cell: the faces with a cell in
 /// front, the count of cells behind, whether queued), on `threads` threads (the order is the
-/// same for any number).
-pub(super) fn by_levels(input: &SortInput, mut state: Vec<u8>, threads: usize) -> Order {
+/// same for any number). The faces' bits of `state` are left as they were.
+///
+/// Each placed cell tells the cells in front of it what it carries ([`Carry::take`]), and a
+/// cell is placed once it has been told by all of them. Where a visibility cycle is broken, the
+/// cells still waiting start afresh (`fresh`): what the cells placed before told them no longer
+/// holds them back.
+pub(super) fn by_levels<C: Carry>(
+    input: &SortInput,
+    state: &mut [u8],
+    carried: &mut [C],
+    fresh: impl Fn(usize) -> C,
+    threads: usize,
+) -> Levelled {
     let n = input.mesh.tet_count();
     let chunking = Chunking::new(n);
-    let mut chunks: Vec<Chunk> = state
+    let mut chunks: Vec<Chunk<C>> = state
         .chunks_mut(1 << chunking.shift)
-        .map(|state| Chunk {
+        .zip(carried.chunks_mut(1 << chunking.shift))
+        .map(|(state, carried)| Chunk {
             // A chunk places its own cells, each once.
             placed: Vec::with_capacity(state.len()),
             state,
+            carried,
             ..Chunk::default()
         })
         .collect();
@@ -309,7 +390,7 @@ pub(super) fn by_levels(input: &SortInput, mut state: Vec<u8>, threads: usize) -
         chunking,
     };
     let mut level = 0;
-    let mut cycle_cells = 0;
+    let mut forced = Vec::new();
     loop {
         level = run_team(&run, &mut chunks, level);
         let placed: usize = chunks.iter().map(|c| c.placed.len()).sum();
@@ -322,22 +403,31 @@ pub(super) fn by_levels(input: &SortInput, mut state: Vec<u8>, threads: usize) -
         let Some(c) = farthest_waiting(input, waiting) else {
             break;
         };
-        cycle_cells += 1;
+        forced.push(level);
+        for (k, chunk) in chunks.iter_mut().enumerate() {
+            for (i, (s, carried)) in chunk.state.iter().zip(chunk.carried.iter_mut()).enumerate() {
+                if s & QUEUED == 0 {
+                    *carried = fresh((k << chunking.shift) + i);
+                }
+            }
+        }
         let chunk = &mut chunks[chunking.of(c as u32)];
         chunk.state[chunking.within(c as u32)] |= QUEUED;
         chunk.placed.push(c as u32);
     }
-    Order {
-        back_to_front: in_level_order(&chunks, n),
-        cycle_cells,
+    let (order, starts) = in_level_order(&chunks, n);
+    Levelled {
+        order,
+        starts,
+        forced,
     }
 }
 
 /// Runs the levels on the team's threads, each with its own chunks, from `level`.
-fn run_team(run: &Levels, chunks: &mut [Chunk<'_>], level: u32) -> u32 {
+fn run_team<C: Carry>(run: &Levels<C>, chunks: &mut [Chunk<'_, C>], level: u32) -> u32 {
     let threads = run.team.threads;
     // Thread t's chunks are t, t + threads, …: taken out, and put back afterwards.
-    let mut mine: Vec<Vec<Chunk>> = (0..threads).map(|_| Vec::new()).collect();
+    let mut mine: Vec<Vec<Chunk<C>>> = (0..threads).map(|_| Vec::new()).collect();
     for (k, c) in chunks.iter_mut().enumerate() {
         mine[k % threads].push(std::mem::take(c));
     }
@@ -358,9 +448,10 @@ fn run_team(run: &Levels, chunks: &mut [Chunk<'_>], level: u32) -> u32 {
     end
 }
 
-/// All placed cells, level by level, and in a level chunk by chunk.
-fn in_level_order(chunks: &[Chunk<'_>], n: usize) -> Vec<u32> {
+/// All placed cells, level by level, and in a level chunk by chunk; where each level starts.
+fn in_level_order<C>(chunks: &[Chunk<'_, C>], n: usize) -> (Vec<u32>, Vec<usize>) {
     let mut order = Vec::with_capacity(n);
+    let mut starts = Vec::new();
     let mut next = vec![(0usize, 0usize); chunks.len()];
     let levels = chunks
         .iter()
@@ -369,6 +460,7 @@ fn in_level_order(chunks: &[Chunk<'_>], n: usize) -> Vec<u32> {
         .max()
         .unwrap_or(0);
     for level in 0..levels {
+        starts.push(order.len());
         for (chunk, (seg, start)) in chunks.iter().zip(next.iter_mut()) {
             if let Some(&(l, count)) = chunk.levels.get(*seg)
                 && l == level
@@ -380,11 +472,12 @@ fn in_level_order(chunks: &[Chunk<'_>], n: usize) -> Vec<u32> {
             }
         }
     }
-    order
+    starts.push(order.len());
+    (order, starts)
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
     use crate::mesh::generate::{SplitMix64, kuhn_box};
     use crate::mesh::{NO_NEIGHBOR, TetMesh};
@@ -439,18 +532,42 @@ mod tests {
     /// each level) and as many cells forced out of cycles.
     fn check(input: &SortInput, state: Vec<u8>) -> usize {
         let (_, generation, cycles) = serial_fifo(input, state.clone());
-        let one = by_levels(input, state.clone(), 1);
+        let one = by_levels(
+            input,
+            &mut state.clone(),
+            &mut vec![(); state.len()],
+            |_| (),
+            1,
+        );
         for threads in [2, 3, 5] {
             assert_eq!(
-                by_levels(input, state.clone(), threads),
+                by_levels(
+                    input,
+                    &mut state.clone(),
+                    &mut vec![(); state.len()],
+                    |_| (),
+                    threads
+                ),
                 one,
                 "{threads} threads"
             );
         }
-        assert_eq!(one.cycle_cells, cycles);
+        assert_eq!(one.forced.len(), cycles);
+        assert_eq!(
+            one.starts.len() as u32,
+            generation.iter().max().unwrap() + 2
+        );
+        for w in one.starts.windows(2) {
+            let g = generation[one.order[w[0]] as usize];
+            assert!(
+                one.order[w[0]..w[1]]
+                    .iter()
+                    .all(|&c| generation[c as usize] == g)
+            );
+        }
         let mut seen = vec![false; input.mesh.tet_count()];
         let mut by_gen: Vec<u32> = one
-            .back_to_front
+            .order
             .iter()
             .map(|&c| {
                 assert!(
@@ -481,8 +598,14 @@ mod tests {
                 mirrored: false,
             };
             assert_eq!(check(&input, relation(&input)), 0);
-            let order = by_levels(&input, relation(&input), 3);
-            crate::sort::mpvo::tests::assert_valid(&input, &order.back_to_front);
+            let order = by_levels(
+                &input,
+                &mut relation(&input),
+                &mut vec![(); mesh.tet_count()],
+                |_| (),
+                3,
+            );
+            crate::sort::mpvo::tests::assert_valid(&input, &order.order);
         }
     }
 
@@ -499,7 +622,13 @@ mod tests {
             perspective: false,
             mirrored: false,
         };
-        let mut rng = SplitMix64(8);
+        let state = random_relation(&mesh, 8);
+        assert!(check(&input, state) > 10, "cycles were broken");
+    }
+
+    /// A relation with every face turned at random (one in ten left undecided): full of cycles.
+    pub(crate) fn random_relation(mesh: &TetMesh, seed: u64) -> Vec<u8> {
+        let mut rng = SplitMix64(seed);
         let mut state = vec![0u8; mesh.tet_count()];
         for c in 0..mesh.tet_count() {
             for f in 0..4 {
@@ -521,6 +650,6 @@ mod tests {
                 state[behind] += 1 << 4;
             }
         }
-        assert!(check(&input, state) > 10, "cycles were broken");
+        state
     }
 }

@@ -10,6 +10,7 @@
 //! predicate the renderer uses ([`crate::predicates`]), and a mirroring transform flips them
 //! once. Each strategy is one entry in [`SORTS`].
 
+mod farthest;
 mod levels;
 mod mpvo;
 

@@ -94,7 +94,7 @@ pub(super) fn relation(input: &SortInput) -> Vec<u8> {
 }
 
 /// Depth of a cell's centroid (distance from the eye, or −z for orthographic views).
-fn depth(input: &SortInput, cell: usize) -> f64 {
+pub(super) fn depth(input: &SortInput, cell: usize) -> f64 {
     let tet = input.mesh.tets()[cell];
     let c = [0, 1, 2].map(|k| {
         tet.iter()
@@ -111,7 +111,7 @@ fn depth(input: &SortInput, cell: usize) -> f64 {
 
 /// Max-heap on (depth, −index): the farthest ready cell first, ties by index.
 #[derive(PartialEq)]
-struct Far(f64, u32);
+pub(super) struct Far(pub f64, pub u32);
 impl Eq for Far {}
 impl PartialOrd for Far {
     fn partial_cmp(&self, o: &Self) -> Option<std::cmp::Ordering> {
@@ -138,26 +138,39 @@ pub(super) fn farthest_waiting(
 /// Cells per thread of the sort at least (the order is the same on any number of threads).
 const CELLS_PER_THREAD: usize = 1 << 15;
 
+/// The threads of a sort by levels of `cells` cells: more threads than cores would wait for
+/// each other at every level, and a thread needs enough cells to be worth its start and its
+/// meetings.
+pub(super) fn sort_threads(cells: usize) -> usize {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    rayon::current_num_threads()
+        .min(cores)
+        .min(cells / CELLS_PER_THREAD)
+        .max(1)
+}
+
 /// MPVO: Kahn's algorithm over the relation, a level at a time on every core
 /// ([`super::levels`]).
 fn mpvo(input: &SortInput) -> Order {
-    // More threads than cores would wait for each other at every level, and a thread needs
-    // enough cells to be worth its start and its meetings.
-    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let threads = rayon::current_num_threads()
-        .min(cores)
-        .min(input.mesh.tet_count() / CELLS_PER_THREAD)
-        .max(1);
-    super::levels::by_levels(input, relation(input), threads)
+    let threads = sort_threads(input.mesh.tet_count());
+    let mut nothing = vec![(); input.mesh.tet_count()];
+    super::levels::by_levels(input, &mut relation(input), &mut nothing, |_| (), threads)
+        .into_order()
 }
 
 /// MPVONC: Kahn's algorithm with the farthest ready cell first. A cell is queued once: when its
 /// last neighbour behind it has been placed, or — when no cell is ready with cells left, a
 /// visibility cycle — as the farthest cell still waiting, which is counted.
 fn mpvonc(input: &SortInput) -> Order {
+    super::farthest::farthest_first(input, relation(input))
+}
+
+/// MPVONC's order one cell at a time, with a heap: what [`super::farthest`] computes on every
+/// core, kept as the reference its tests compare with.
+#[cfg(test)]
+pub(super) fn mpvonc_serial(input: &SortInput, mut state: Vec<u8>) -> Order {
     let n = input.mesh.tet_count();
     let nbs = input.mesh.neighbors();
-    let mut state = relation(input);
     let mut ready = BinaryHeap::with_capacity(1024);
     let enqueue = |c: usize, state: &mut [u8], ready: &mut BinaryHeap<Far>| {
         state[c] |= QUEUED;
