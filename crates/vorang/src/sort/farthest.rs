@@ -187,8 +187,9 @@ mod tests {
     use super::*;
     use crate::mesh::TetMesh;
     use crate::mesh::generate::{SplitMix64, kuhn_box};
+    use crate::sort::mpvo::relation;
+    use crate::sort::mpvo::tests::mpvonc_serial;
     use crate::sort::mpvo::tests::views;
-    use crate::sort::mpvo::{mpvonc_serial, relation};
 
     fn pool(threads: usize) -> rayon::ThreadPool {
         rayon::ThreadPoolBuilder::new()

@@ -1,8 +1,6 @@
 //! MPVO: a topological sort of the "is behind" relation across interior faces, decided by exact
 //! orientation predicates so that both cells of a face always agree.
 
-use std::collections::BinaryHeap;
-
 use rayon::prelude::*;
 
 use super::{Order, SortInfo, SortInput};
@@ -160,64 +158,66 @@ fn mpvo(input: &SortInput) -> Order {
 
 /// MPVONC: Kahn's algorithm with the farthest ready cell first. A cell is queued once: when its
 /// last neighbour behind it has been placed, or — when no cell is ready with cells left, a
-/// visibility cycle — as the farthest cell still waiting, which is counted.
+/// visibility cycle — as the farthest cell still waiting, which is counted. Computed on every
+/// core as a sort by bound ([`super::farthest`]).
 fn mpvonc(input: &SortInput) -> Order {
     super::farthest::farthest_first(input, relation(input))
 }
 
-/// MPVONC's order one cell at a time, with a heap: what [`super::farthest`] computes on every
-/// core, kept as the reference its tests compare with.
-#[cfg(test)]
-pub(super) fn mpvonc_serial(input: &SortInput, mut state: Vec<u8>) -> Order {
-    let n = input.mesh.tet_count();
-    let nbs = input.mesh.neighbors();
-    let mut ready = BinaryHeap::with_capacity(1024);
-    let enqueue = |c: usize, state: &mut [u8], ready: &mut BinaryHeap<Far>| {
-        state[c] |= QUEUED;
-        ready.push(Far(depth(input, c), c as u32));
-    };
-    for c in 0..n {
-        if behind_count(state[c]) == 0 {
-            enqueue(c, &mut state, &mut ready);
-        }
-    }
-    let mut order = Vec::with_capacity(n);
-    let mut cycle_cells = 0;
-    loop {
-        while let Some(Far(_, c)) = ready.pop() {
-            let c = c as usize;
-            order.push(c as u32);
-            let front = state[c] & 0xF;
-            for f in 0..4 {
-                if front & (1 << f) != 0 {
-                    let m = nbs[c][f] as usize;
-                    if release(&mut state[m]) {
-                        ready.push(Far(depth(input, m), m as u32));
-                    }
-                }
-            }
-        }
-        if order.len() == n {
-            break;
-        }
-        let Some(c) = farthest_waiting(input, |c| state[c] & QUEUED == 0) else {
-            break;
-        };
-        cycle_cells += 1;
-        enqueue(c, &mut state, &mut ready);
-    }
-    Order {
-        back_to_front: order,
-        cycle_cells,
-    }
-}
-
 #[cfg(test)]
 pub(super) mod tests {
+    use std::collections::BinaryHeap;
+
     use super::*;
     use crate::mesh::TetMesh;
     use crate::mesh::generate::kuhn_box;
     use crate::sort::SortInput;
+
+    /// MPVONC's order one cell at a time, with a heap: what [`super::super::farthest`]
+    /// computes on every core, kept as the reference its tests compare with.
+    pub(crate) fn mpvonc_serial(input: &SortInput, mut state: Vec<u8>) -> Order {
+        let n = input.mesh.tet_count();
+        let nbs = input.mesh.neighbors();
+        let mut ready = BinaryHeap::with_capacity(1024);
+        let enqueue = |c: usize, state: &mut [u8], ready: &mut BinaryHeap<Far>| {
+            state[c] |= QUEUED;
+            ready.push(Far(depth(input, c), c as u32));
+        };
+        for c in 0..n {
+            if behind_count(state[c]) == 0 {
+                enqueue(c, &mut state, &mut ready);
+            }
+        }
+        let mut order = Vec::with_capacity(n);
+        let mut cycle_cells = 0;
+        loop {
+            while let Some(Far(_, c)) = ready.pop() {
+                let c = c as usize;
+                order.push(c as u32);
+                let front = state[c] & 0xF;
+                for f in 0..4 {
+                    if front & (1 << f) != 0 {
+                        let m = nbs[c][f] as usize;
+                        if release(&mut state[m]) {
+                            ready.push(Far(depth(input, m), m as u32));
+                        }
+                    }
+                }
+            }
+            if order.len() == n {
+                break;
+            }
+            let Some(c) = farthest_waiting(input, |c| state[c] & QUEUED == 0) else {
+                break;
+            };
+            cycle_cells += 1;
+            enqueue(c, &mut state, &mut ready);
+        }
+        Order {
+            back_to_front: order,
+            cycle_cells,
+        }
+    }
 
     /// Every interior face: the cell behind it comes first.
     pub(crate) fn assert_valid(input: &SortInput, order: &[u32]) {
