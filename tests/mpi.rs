@@ -12,7 +12,8 @@
 //! truncated piece, pieces with other arrays, a rank whose script fails before, while or after
 //! the others render and a map that does not fit stop every rank with that message, printed
 //! once, and a non-zero exit — never a hang (every run is under a time limit). The default
-//! method `test` and an opaque `render_ftb` render on ranks.
+//! method `test` and an opaque `render_ftb` render on ranks. Two unbound ranks divide the
+//! node's cores between their render threads unless `RAYON_NUM_THREADS` sets them.
 
 #![cfg(feature = "mpi")]
 
@@ -426,4 +427,65 @@ fn the_default_method_and_an_opaque_render_ftb_on_ranks() {
             );
         }
     }
+}
+
+/// The render threads of rank 0, from the timing line of its one frame.
+fn threads_said(out: &Output) -> usize {
+    let lines = String::from_utf8_lossy(&out.stdout);
+    let said = lines
+        .lines()
+        .find_map(|l| l.split_once(" threads").map(|(head, _)| head))
+        .and_then(|head| head.rsplit(' ').next())
+        .and_then(|n| n.parse().ok());
+    said.unwrap_or_else(|| panic!("no thread count in: {lines}"))
+}
+
+/// Two unbound ranks on one node divide its cores (each rank runs its part of the CPUs it may
+/// run on, not all of them), `RAYON_NUM_THREADS` still sets the threads, and the image is the
+/// same bit for bit.
+#[test]
+fn ranks_on_one_node_divide_its_cores() {
+    let dir = tempfile::tempdir().unwrap();
+    let d = dir.path();
+    inputs(d);
+    let script = |out: &str| {
+        format!("volume box.hm\nimagesize 48 36\nview_all\noutput {out}.pfm\nrender_btf\n")
+    };
+    std::fs::write(d.join("s.tcl"), script("s")).unwrap();
+    std::fs::write(d.join("r.tcl"), script("r")).unwrap();
+    let two = |file: &str, threads: Option<&str>| {
+        let mut cmd = Command::new("mpirun");
+        cmd.args([
+            "-np",
+            "2",
+            "--oversubscribe",
+            "--bind-to",
+            "none",
+            BIN,
+            file,
+        ])
+        .env("VORANG_TIMING", "1")
+        .env_remove("RAYON_NUM_THREADS")
+        .env_remove("RAYON_RS_NUM_CPUS");
+        if let Some(n) = threads {
+            cmd.env("RAYON_NUM_THREADS", n);
+        }
+        let out = run(cmd, d);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "{file}: {err}");
+        out
+    };
+    // Unbound, both ranks may run on the CPUs this test may run on.
+    let mine = vorang_mpi::cores::affinity();
+    let cpus: u32 = mine.iter().map(|w| w.count_ones()).sum();
+    let part = vorang_mpi::cores::threads(&[mine.clone(), mine], 0);
+    assert!(
+        part <= (cpus as usize).div_ceil(2),
+        "{part} threads of {cpus} CPUs"
+    );
+    assert_eq!(threads_said(&two("s.tcl", None)), part);
+    assert_eq!(threads_said(&two("r.tcl", Some("3"))), 3);
+    let (s, r) = (images(d, "s"), images(d, "r"));
+    assert_eq!(s.len(), 1);
+    assert!(s[0].1 == r[0].1, "the thread count changed the image");
 }

@@ -10,8 +10,12 @@
 //!
 //! A process started without a launcher is no rank: [`Mpi::start`] then returns `None` and the
 //! program runs as the build without MPI does.
+//!
+//! Ranks that share a node divide its cores among their render threads ([`cores`]).
 
 use std::sync::Mutex;
+
+pub mod cores;
 
 use mpi::Count;
 use mpi::collective::SystemOperation;
@@ -56,13 +60,15 @@ const SCRIPT: u8 = b'S';
 
 impl Mpi {
     /// Initialises MPI when a launcher started this process; `None` (MPI untouched) otherwise.
-    /// The universe finalises MPI when dropped: keep it until the program ends.
+    /// The universe finalises MPI when dropped: keep it until the program ends. Sizes rayon's
+    /// pool to this rank's part of its node's cores ([`cores`]): call it before any rayon work.
     pub fn start() -> Option<(Universe, Mpi)> {
         if !LAUNCHED.iter().any(|v| std::env::var_os(v).is_some()) {
             return None;
         }
         let (universe, _) = mpi::initialize_with_threading(mpi::Threading::Serialized)?;
         let world = universe.world();
+        cores::divide(&world);
         let mpi = Mpi {
             rank: world.rank() as usize,
             size: world.size() as usize,
