@@ -7,6 +7,8 @@
 #   THREADS="1 2 4 8 16"                     (default: powers of two up to nproc, and nproc)
 #   FRAMES=4                                  frames after the first (median reported)
 #   METHODS="exact interpolateColor"
+#   HOLES=0.03                                remove this fraction of the cells (a non-convex
+#                                             mesh, sorted by MPVONC and ordered per pixel)
 # Prints a Markdown table; speed-up is the 1-thread frame time over this one's. The machine is
 # whatever runs it: say which, and measure when nothing else runs.
 set -euo pipefail
@@ -32,7 +34,7 @@ echo "|---|---|---|---|---|---|---|---|---|---|---|"
 for size in $sizes; do
   cells=${size%%:*} pixels=${size##*:}
   mesh="$work/box$cells.bin"
-  "$vorang" generate "$mesh" --tets "$cells" --binary >/dev/null 2>&1
+  "$vorang" generate "$mesh" --tets "$cells" --binary --holes "${HOLES:-0}" >/dev/null 2>&1
   for method in $methods; do
     case $method in
       exact) command="exact linear 0 1" ;;

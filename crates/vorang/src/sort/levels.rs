@@ -260,6 +260,23 @@ impl<C: Carry> Levels<'_, C> {
             if i + AHEAD < end {
                 crate::cache::prefetch(&nbs[placed[i + AHEAD] as usize]);
             }
+            // What the cells carry is read out of order too: the cell's own a row ahead, and
+            // the slots of its neighbours in front half a row ahead, once their numbers are in.
+            if size_of::<C>() > 0 {
+                if i + AHEAD < end {
+                    crate::cache::prefetch(&carried[chunking.within(placed[i + AHEAD])]);
+                }
+                if i + AHEAD / 2 < end {
+                    let ahead = placed[i + AHEAD / 2];
+                    let front = state[chunking.within(ahead)] & 0xF;
+                    for f in 0..4 {
+                        let m = nbs[ahead as usize][f];
+                        if front & (1 << f) != 0 && chunking.of(m) == k {
+                            crate::cache::prefetch(&carried[chunking.within(m)]);
+                        }
+                    }
+                }
+            }
             let c = placed[i];
             let front = state[chunking.within(c)] & 0xF;
             let told = carried[chunking.within(c)];
