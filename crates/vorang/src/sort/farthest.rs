@@ -55,7 +55,14 @@ pub(super) fn farthest_first(input: &SortInput, mut state: Vec<u8>) -> Order {
         .map(|c| Bound(depth(input, c)))
         .collect();
     let fresh = |c| Bound(depth(input, c));
-    let levelled = by_levels(input, &mut state, &mut bounds, fresh, sort_threads(n));
+    let levelled = by_levels(
+        input,
+        &mut state,
+        &mut bounds,
+        fresh,
+        sort_threads(n),
+        false,
+    );
     let starts = &levelled.starts;
     // The phases: where each starts, and the cell forced out of a cycle that starts it.
     let mut phases: Vec<(usize, Option<u32>)> = vec![(0, None)];

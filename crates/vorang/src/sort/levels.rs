@@ -76,12 +76,40 @@ impl Carry for () {
     fn take(&mut self, _: ()) {}
 }
 
+/// A chunk's cells in the order it placed them, in its stretch of one buffer for all chunks
+/// (a chunk places each of its cells once: the stretch is as long as the chunk).
+struct Placed<'a> {
+    cells: &'a mut [u32],
+    len: usize,
+}
+
+impl Placed<'_> {
+    #[inline]
+    fn push(&mut self, cell: u32) {
+        self.cells[self.len] = cell;
+        self.len += 1;
+    }
+
+    #[inline]
+    fn len(&self) -> usize {
+        self.len
+    }
+}
+
+impl std::ops::Index<usize> for Placed<'_> {
+    type Output = u32;
+    #[inline]
+    fn index(&self, i: usize) -> &u32 {
+        &self.cells[..self.len][i]
+    }
+}
+
 /// One chunk: its cells' bytes of the relation and what they carry, its cells placed so far,
 /// in order, and how many it placed in each level.
 struct Chunk<'a, C> {
     state: &'a mut [u8],
     carried: &'a mut [C],
-    placed: Vec<u32>,
+    placed: Placed<'a>,
     /// Where the current level starts in `placed`.
     begin: usize,
     /// (level, count) for each level in which this chunk placed cells.
@@ -93,7 +121,10 @@ impl<C> Default for Chunk<'_, C> {
         Chunk {
             state: &mut [],
             carried: &mut [],
-            placed: Vec::new(),
+            placed: Placed {
+                cells: &mut [],
+                len: 0,
+            },
             begin: 0,
             levels: Vec::new(),
         }
@@ -372,21 +403,27 @@ impl Levelled {
 /// cell is placed once it has been told by all of them. Where a visibility cycle is broken, the
 /// cells still waiting start afresh (`fresh`): what the cells placed before told them no longer
 /// holds them back.
+///
+/// With `in_levels` false, where no cycle was broken, the order is left chunk by chunk instead
+/// of level by level (for a caller that sorts the cells anew): it saves a copy of the order at
+/// the sort's busiest moment.
 pub(super) fn by_levels<C: Carry>(
     input: &SortInput,
     state: &mut [u8],
     carried: &mut [C],
     fresh: impl Fn(usize) -> C,
     threads: usize,
+    in_levels: bool,
 ) -> Levelled {
     let n = input.mesh.tet_count();
     let chunking = Chunking::new(n);
+    let mut buffer = vec![0u32; n];
     let mut chunks: Vec<Chunk<C>> = state
         .chunks_mut(1 << chunking.shift)
         .zip(carried.chunks_mut(1 << chunking.shift))
-        .map(|(state, carried)| Chunk {
-            // A chunk places its own cells, each once.
-            placed: Vec::with_capacity(state.len()),
+        .zip(buffer.chunks_mut(1 << chunking.shift))
+        .map(|((state, carried), cells)| Chunk {
+            placed: Placed { cells, len: 0 },
             state,
             carried,
             ..Chunk::default()
@@ -432,7 +469,13 @@ pub(super) fn by_levels<C: Carry>(
         chunk.state[chunking.within(c as u32)] |= QUEUED;
         chunk.placed.push(c as u32);
     }
-    let (order, starts) = in_level_order(&chunks, n);
+    let starts = level_starts(&chunks);
+    let order = if in_levels || !forced.is_empty() {
+        in_level_order(&chunks, n)
+    } else {
+        drop(chunks);
+        buffer
+    };
     Levelled {
         order,
         starts,
@@ -465,32 +508,47 @@ fn run_team<C: Carry>(run: &Levels<C>, chunks: &mut [Chunk<'_, C>], level: u32) 
     end
 }
 
-/// All placed cells, level by level, and in a level chunk by chunk; where each level starts.
-fn in_level_order<C>(chunks: &[Chunk<'_, C>], n: usize) -> (Vec<u32>, Vec<usize>) {
-    let mut order = Vec::with_capacity(n);
-    let mut starts = Vec::new();
-    let mut next = vec![(0usize, 0usize); chunks.len()];
-    let levels = chunks
+/// The number of levels the chunks placed cells in.
+fn level_count<C>(chunks: &[Chunk<'_, C>]) -> usize {
+    chunks
         .iter()
         .filter_map(|c| c.levels.last())
-        .map(|l| l.0 + 1)
+        .map(|l| l.0 as usize + 1)
         .max()
-        .unwrap_or(0);
-    for level in 0..levels {
-        starts.push(order.len());
+        .unwrap_or(0)
+}
+
+/// Where each level starts in the order level by level, and its end last.
+fn level_starts<C>(chunks: &[Chunk<'_, C>]) -> Vec<usize> {
+    let mut sizes = vec![0usize; level_count(chunks) + 1];
+    for chunk in chunks {
+        for &(level, count) in &chunk.levels {
+            sizes[level as usize + 1] += count as usize;
+        }
+    }
+    for l in 1..sizes.len() {
+        sizes[l] += sizes[l - 1];
+    }
+    sizes
+}
+
+/// All placed cells, level by level, and in a level chunk by chunk.
+fn in_level_order<C>(chunks: &[Chunk<'_, C>], n: usize) -> Vec<u32> {
+    let mut order = Vec::with_capacity(n);
+    let mut next = vec![(0usize, 0usize); chunks.len()];
+    for level in 0..level_count(chunks) {
         for (chunk, (seg, start)) in chunks.iter().zip(next.iter_mut()) {
             if let Some(&(l, count)) = chunk.levels.get(*seg)
-                && l == level
+                && l == level as u32
             {
                 let end = *start + count as usize;
-                order.extend_from_slice(&chunk.placed[*start..end]);
+                order.extend_from_slice(&chunk.placed.cells[*start..end]);
                 *seg += 1;
                 *start = end;
             }
         }
     }
-    starts.push(order.len());
-    (order, starts)
+    order
 }
 
 #[cfg(test)]
@@ -555,6 +613,7 @@ pub(super) mod tests {
             &mut vec![(); state.len()],
             |_| (),
             1,
+            true,
         );
         for threads in [2, 3, 5] {
             assert_eq!(
@@ -563,13 +622,28 @@ pub(super) mod tests {
                     &mut state.clone(),
                     &mut vec![(); state.len()],
                     |_| (),
-                    threads
+                    threads,
+                    true,
                 ),
                 one,
                 "{threads} threads"
             );
         }
         assert_eq!(one.forced.len(), cycles);
+        // Left chunk by chunk: the same cells and levels (level by level where cycles split it).
+        let loose = by_levels(
+            input,
+            &mut state.clone(),
+            &mut vec![(); state.len()],
+            |_| (),
+            2,
+            false,
+        );
+        assert_eq!((&loose.starts, &loose.forced), (&one.starts, &one.forced));
+        let mut cells = loose.order.clone();
+        cells.sort_unstable();
+        assert!(cells.iter().enumerate().all(|(i, &c)| c as usize == i));
+        assert_eq!(cycles > 0, loose.order == one.order);
         assert_eq!(
             one.starts.len() as u32,
             generation.iter().max().unwrap() + 2
@@ -621,6 +695,7 @@ pub(super) mod tests {
                 &mut vec![(); mesh.tet_count()],
                 |_| (),
                 3,
+                true,
             );
             crate::sort::mpvo::tests::assert_valid(&input, &order.order);
         }

@@ -152,8 +152,15 @@ pub(super) fn sort_threads(cells: usize) -> usize {
 fn mpvo(input: &SortInput) -> Order {
     let threads = sort_threads(input.mesh.tet_count());
     let mut nothing = vec![(); input.mesh.tet_count()];
-    super::levels::by_levels(input, &mut relation(input), &mut nothing, |_| (), threads)
-        .into_order()
+    super::levels::by_levels(
+        input,
+        &mut relation(input),
+        &mut nothing,
+        |_| (),
+        threads,
+        true,
+    )
+    .into_order()
 }
 
 /// MPVONC: Kahn's algorithm with the farthest ready cell first. A cell is queued once: when its
