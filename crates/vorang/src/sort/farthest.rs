@@ -23,6 +23,12 @@
 //! waiting. It starts the next phase: the cells still waiting forget the bounds they were told
 //! before, and the forced cell is ready in its run, whatever its cells behind (which the queue
 //! ignores once it is placed).
+//!
+//! The bounds are kept as 32-bit floats, to hold 4 bytes per cell instead of 8 at the frame's
+//! busiest moment. Rounding is monotone, so the bound of the rounded depths is the rounded
+//! bound, and the cells whose bounds round alike form one run: the consecutive runs of the
+//! order above, merged. The argument holds for the merged runs as it is: a ready cell outside
+//! one rounds nearer than every cell in it, so it is nearer.
 
 use std::collections::BinaryHeap;
 
@@ -32,9 +38,9 @@ use super::levels::{Carry, by_levels};
 use super::mpvo::{Far, depth, sort_threads};
 use super::{Order, SortInput};
 
-/// A cell's bound (a depth), as the sort by levels carries it.
+/// A cell's bound (a depth, rounded), as the sort by levels carries it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-struct Bound(f64);
+struct Bound(f32);
 
 impl Carry for Bound {
     /// The nearer depth.
@@ -47,14 +53,20 @@ impl Carry for Bound {
 }
 
 /// MPVONC's order over the relation `state` ([`super::mpvo::relation`]).
-pub(super) fn farthest_first(input: &SortInput, mut state: Vec<u8>) -> Order {
+pub(super) fn farthest_first(input: &SortInput, state: Vec<u8>) -> Order {
+    rounded_farthest_first(input, state, |d| d as f32)
+}
+
+/// [`farthest_first`] with the bounds rounded by `round` (monotone: the tests round coarsely).
+fn rounded_farthest_first(
+    input: &SortInput,
+    mut state: Vec<u8>,
+    round: impl Fn(f64) -> f32 + Sync,
+) -> Order {
     let n = input.mesh.tet_count();
-    let mut bounds: Vec<Bound> = (0..n)
-        .into_par_iter()
-        .with_min_len(4096)
-        .map(|c| Bound(depth(input, c)))
-        .collect();
-    let fresh = |c| Bound(depth(input, c));
+    let own = |c| Bound(round(depth(input, c)));
+    let mut bounds: Vec<Bound> = (0..n).into_par_iter().with_min_len(4096).map(own).collect();
+    let fresh = own;
     let levelled = by_levels(
         input,
         &mut state,
@@ -112,7 +124,7 @@ impl Runs<'_> {
     fn sort(&self, cells: &mut [u32], forced: Option<u32>) {
         // The cells themselves are sorted, their keys looked up: sorting (key, cell) pairs is
         // faster but holds 12 bytes more per cell at the frame's busiest moment.
-        let key = |c: &u32| descending(self.bounds[*c as usize].0);
+        let key = |c: &u32| descending(self.bounds[*c as usize].0.into());
         cells.par_sort_unstable_by_key(key);
         let forced = forced.unwrap_or(u32::MAX);
         cells
@@ -213,13 +225,17 @@ mod tests {
         }
     }
 
-    /// The queue's order, on 1, 2 and 3 threads.
+    /// The queue's order, on 1, 2 and 3 threads, and with the bounds rounded coarsely (runs
+    /// merged: a 64th of the unit cube's depth).
     fn check(input: &SortInput, state: Vec<u8>) -> usize {
         let want = mpvonc_serial(input, state.clone());
         for threads in [1, 2, 3] {
             let got = pool(threads).install(|| farthest_first(input, state.clone()));
             assert_eq!(got, want, "{threads} threads");
         }
+        let coarse = |d: f64| (d * 64.0).floor() as f32;
+        let got = pool(2).install(|| rounded_farthest_first(input, state.clone(), coarse));
+        assert_eq!(got, want, "rounded coarsely");
         want.cycle_cells
     }
 
