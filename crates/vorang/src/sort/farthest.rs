@@ -39,7 +39,7 @@ use super::mpvo::{Far, depth, sort_threads};
 use super::{Order, SortInput};
 
 /// A cell's bound (a depth, rounded), as the sort by levels carries it.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Bound(f32);
 
 impl Carry for Bound {

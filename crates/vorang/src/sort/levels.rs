@@ -66,7 +66,7 @@ impl Chunking {
 
 /// What a placed cell tells the cells in front of it besides that it is placed: nothing for
 /// MPVO, the bound for MPVONC's order ([`super::farthest`]).
-pub(super) trait Carry: Copy + Send + Sync {
+pub(super) trait Carry: Copy + Default + Send + Sync {
     /// `self`, of a cell still waiting, told `from` by a cell behind it.
     fn take(&mut self, from: Self);
 }
@@ -74,6 +74,23 @@ pub(super) trait Carry: Copy + Send + Sync {
 impl Carry for () {
     #[inline]
     fn take(&mut self, _: ()) {}
+}
+
+/// Whether a cell carries anything: MPVO's sort then never touches the carried values, not even
+/// to check an index.
+#[inline(always)]
+fn carries<C>() -> bool {
+    size_of::<C>() > 0
+}
+
+/// The value `carried[i]` (nothing to read where nothing is carried).
+#[inline(always)]
+fn carried_at<C: Carry>(carried: &[C], i: usize) -> C {
+    if carries::<C>() {
+        carried[i]
+    } else {
+        C::default()
+    }
 }
 
 /// A chunk's cells in the order it placed them, in its stretch of one buffer for all chunks
@@ -100,7 +117,8 @@ impl std::ops::Index<usize> for Placed<'_> {
     type Output = u32;
     #[inline]
     fn index(&self, i: usize) -> &u32 {
-        &self.cells[..self.len][i]
+        debug_assert!(i < self.len, "a cell not placed yet");
+        &self.cells[i]
     }
 }
 
@@ -293,7 +311,7 @@ impl<C: Carry> Levels<'_, C> {
             }
             // What the cells carry is read out of order too: the cell's own a row ahead, and
             // the slots of its neighbours in front half a row ahead, once their numbers are in.
-            if size_of::<C>() > 0 {
+            if carries::<C>() {
                 if i + AHEAD < end {
                     crate::cache::prefetch(&carried[chunking.within(placed[i + AHEAD])]);
                 }
@@ -310,14 +328,14 @@ impl<C: Carry> Levels<'_, C> {
             }
             let c = placed[i];
             let front = state[chunking.within(c)] & 0xF;
-            let told = carried[chunking.within(c)];
+            let told = carried_at(carried, chunking.within(c));
             for f in 0..4 {
                 if front & (1 << f) != 0 {
                     let m = nbs[c as usize][f];
                     let km = chunking.of(m);
                     if km == k {
                         let j = chunking.within(m);
-                        if state[j] & QUEUED == 0 {
+                        if carries::<C>() && state[j] & QUEUED == 0 {
                             carried[j].take(told);
                         }
                         if release(&mut state[j]) {
@@ -325,7 +343,9 @@ impl<C: Carry> Levels<'_, C> {
                         }
                     } else {
                         out[km % threads].cells.push(m);
-                        out[km % threads].carried.push(told);
+                        if carries::<C>() {
+                            out[km % threads].carried.push(told);
+                        }
                     }
                 }
             }
@@ -359,12 +379,12 @@ impl<C: Carry> Levels<'_, C> {
             if sender != k {
                 continue;
             }
-            let told = &inbox[from].carried[start..end];
-            for (&m, &told) in inbox[from].cells[start..end].iter().zip(told) {
+            for i in start..end {
+                let m = inbox[from].cells[i];
                 let chunk = &mut chunks[self.chunking.of(m) / threads];
                 let j = self.chunking.within(m);
-                if chunk.state[j] & QUEUED == 0 {
-                    chunk.carried[j].take(told);
+                if carries::<C>() && chunk.state[j] & QUEUED == 0 {
+                    chunk.carried[j].take(inbox[from].carried[i]);
                 }
                 if release(&mut chunk.state[j]) {
                     chunk.placed.push(m);
