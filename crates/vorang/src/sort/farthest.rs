@@ -201,7 +201,7 @@ mod tests {
     use super::*;
     use crate::mesh::TetMesh;
     use crate::mesh::generate::{SplitMix64, kuhn_box};
-    use crate::sort::levels::tests::random_relation;
+    use crate::sort::levels::tests::{random_relation, turned_box};
     use crate::sort::mpvo::relation;
     use crate::sort::mpvo::tests::mpvonc_serial;
     use crate::sort::mpvo::tests::views;
@@ -327,19 +327,11 @@ mod tests {
     }
 
     /// Faces turned at random: the relation is full of cycles, broken one cell at a time, and
-    /// the groups are large (depth says little about the order).
+    /// depth says little about the order.
     #[test]
     fn cycles_split_the_order_as_the_queue_does() {
-        let (nodes, tets) = kuhn_box([9, 8, 7], [1.0; 3], 0.1, 5);
-        let mesh = TetMesh::new(nodes, tets).unwrap();
-        let (eye, screen, _) = views(&mesh, 2, 2, 3.0).nth(1).unwrap();
-        let input = SortInput {
-            mesh: &mesh,
-            eye_nodes: &eye,
-            screen: &screen,
-            perspective: false,
-            mirrored: false,
-        };
+        let (mesh, eye, screen) = turned_box();
+        let input = SortInput::orthographic(&mesh, &eye, &screen);
         for seed in [8, 9, 10] {
             let state = random_relation(&mesh, seed);
             assert!(check(&input, state) > 10, "cycles were broken");

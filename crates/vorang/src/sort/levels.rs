@@ -724,9 +724,7 @@ pub(super) mod tests {
     /// Faces turned at random: the relation is full of cycles, broken one cell at a time.
     #[test]
     fn cycles_are_broken_as_the_serial_sort_breaks_them() {
-        let (nodes, tets) = kuhn_box([9, 8, 7], [1.0; 3], 0.1, 5);
-        let mesh = TetMesh::new(nodes, tets).unwrap();
-        let (eye, screen, _) = views(&mesh, 2, 2, 3.0).nth(1).unwrap();
+        let (mesh, eye, screen) = turned_box();
         let input = SortInput {
             mesh: &mesh,
             eye_nodes: &eye,
@@ -736,6 +734,15 @@ pub(super) mod tests {
         };
         let state = random_relation(&mesh, 8);
         assert!(check(&input, state) > 10, "cycles were broken");
+    }
+
+    /// A small jittered box turned at random, seen orthographically: the scene of the tests
+    /// with relations turned at random.
+    pub(crate) fn turned_box() -> (TetMesh, Vec<[f64; 3]>, Vec<[f64; 2]>) {
+        let (nodes, tets) = kuhn_box([9, 8, 7], [1.0; 3], 0.1, 5);
+        let mesh = TetMesh::new(nodes, tets).unwrap();
+        let (eye, screen, _) = views(&mesh, 2, 2, 3.0).nth(1).unwrap();
+        (mesh, eye, screen)
     }
 
     /// A relation with every face turned at random (one in ten left undecided): full of cycles.
