@@ -79,8 +79,11 @@ fn rounded_farthest_first(
     // The phases: where each starts, and the cell forced out of a cycle that starts it.
     let mut phases: Vec<(usize, Option<u32>)> = vec![(0, None)];
     for &level in &levelled.forced {
+        // A forced level holds one cell: only the first can start where the order does.
         let start = starts[level as usize];
-        phases.retain(|&(s, _)| s != start);
+        if start == 0 {
+            phases.clear();
+        }
         phases.push((start, Some(levelled.order[start])));
     }
     let mut order = levelled.order;
@@ -142,10 +145,11 @@ impl Runs<'_> {
         if let [a, b] = run {
             // Most runs of two: a cell and the farther cell in front of it, which comes after.
             let (x, y) = (*a, *b);
+            let (x_behind, y_behind) = (self.is_behind(x, y), self.is_behind(y, x));
             let x_first = if x == forced || y == forced {
                 x == forced
-            } else if self.is_behind(x, y) || self.is_behind(y, x) {
-                self.is_behind(x, y)
+            } else if x_behind || y_behind {
+                x_behind
             } else {
                 Far(depth(self.input, x as usize), x) > Far(depth(self.input, y as usize), y)
             };

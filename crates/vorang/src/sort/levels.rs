@@ -478,7 +478,7 @@ pub(super) fn by_levels<C: Carry>(
             break;
         };
         forced.push(level);
-        for (k, chunk) in chunks.iter_mut().enumerate() {
+        for (k, chunk) in chunks.iter_mut().enumerate().filter(|_| carries::<C>()) {
             for (i, (s, carried)) in chunk.state.iter().zip(chunk.carried.iter_mut()).enumerate() {
                 if s & QUEUED == 0 {
                     *carried = fresh((k << chunking.shift) + i);
