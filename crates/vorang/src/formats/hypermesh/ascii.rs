@@ -4,10 +4,11 @@
 
 use std::io::{self, BufRead, Write};
 
+use super::batch;
 use super::input::Input;
-use crate::data::{DataType, ScalarType, Values};
+use super::row::{AsciiNumber, Line, RowError, classify, parse_row};
+use crate::data::{DataType, Values};
 use crate::error::ParseError;
-use crate::numbers::is_decimal;
 
 /// The file line of every row of a block, stored compactly: rows are consecutive lines except
 /// where blank or comment lines interrupt them, and only those jumps are recorded.
@@ -18,9 +19,16 @@ pub struct RowLines {
 }
 
 impl RowLines {
-    fn push(&mut self, row: usize, line: usize) {
+    pub(super) fn push(&mut self, row: usize, line: usize) {
         if self.line_of(row) != Some(line) {
             self.runs.push((row, line));
+        }
+    }
+
+    /// Appends `other`'s rows, numbered from `row0`, their lines shifted by `line0`.
+    pub(super) fn append_shifted(&mut self, other: &RowLines, row0: usize, line0: usize) {
+        for &(r, l) in &other.runs {
+            self.push(row0 + r, line0 + l);
         }
     }
 
@@ -29,137 +37,6 @@ impl RowLines {
         let i = self.runs.partition_point(|&(r, _)| r <= row);
         let (r, l) = *self.runs.get(i.checked_sub(1)?)?;
         Some(l + (row - r))
-    }
-}
-
-/// A number type that ASCII rows can hold.
-trait AsciiNumber: Copy {
-    const TYPE: ScalarType;
-    fn parse(tok: &[u8]) -> Result<Self, String>;
-}
-
-fn integer(tok: &[u8]) -> Option<i64> {
-    let (neg, digits) = match tok.first() {
-        Some(b'-') => (true, &tok[1..]),
-        Some(b'+') => (false, &tok[1..]),
-        _ => (false, tok),
-    };
-    if digits.is_empty() || digits.len() > 18 {
-        return None;
-    }
-    let mut v: i64 = 0;
-    for &d in digits {
-        if !d.is_ascii_digit() {
-            return None;
-        }
-        v = v * 10 + i64::from(d - b'0');
-    }
-    Some(if neg { -v } else { v })
-}
-
-fn show(tok: &[u8]) -> String {
-    let s = String::from_utf8_lossy(tok);
-    if s.chars().count() > 40 {
-        format!("{}…", s.chars().take(40).collect::<String>())
-    } else {
-        s.into_owned()
-    }
-}
-
-fn int_in_range(tok: &[u8], lo: i64, hi: i64, ty: ScalarType) -> Result<i64, String> {
-    let digits = tok
-        .strip_prefix(b"-")
-        .or(tok.strip_prefix(b"+"))
-        .unwrap_or(tok);
-    let too_long = digits.len() > 18 && digits.iter().all(u8::is_ascii_digit);
-    match integer(tok) {
-        Some(v) if (lo..=hi).contains(&v) => Ok(v),
-        Some(_) => Err(format!(
-            "{} is out of range for {} ({lo}…{hi})",
-            show(tok),
-            ty.keyword()
-        )),
-        None if too_long => Err(format!(
-            "{} is out of range for {} ({lo}…{hi})",
-            show(tok),
-            ty.keyword()
-        )),
-        None => Err(format!(
-            "expected a whole number for {}, found '{}'",
-            ty.keyword(),
-            show(tok)
-        )),
-    }
-}
-
-impl AsciiNumber for u8 {
-    const TYPE: ScalarType = ScalarType::Byte;
-    fn parse(tok: &[u8]) -> Result<Self, String> {
-        int_in_range(tok, 0, 255, Self::TYPE).map(|v| v as u8)
-    }
-}
-
-impl AsciiNumber for i16 {
-    const TYPE: ScalarType = ScalarType::Short;
-    fn parse(tok: &[u8]) -> Result<Self, String> {
-        int_in_range(tok, i16::MIN.into(), i16::MAX.into(), Self::TYPE).map(|v| v as i16)
-    }
-}
-
-impl AsciiNumber for i32 {
-    const TYPE: ScalarType = ScalarType::Int;
-    fn parse(tok: &[u8]) -> Result<Self, String> {
-        int_in_range(tok, i32::MIN.into(), i32::MAX.into(), Self::TYPE).map(|v| v as i32)
-    }
-}
-
-fn real<T: std::str::FromStr>(tok: &[u8], ty: ScalarType) -> Result<T, String> {
-    if !is_decimal(tok) {
-        return Err(format!(
-            "expected a number for {}, found '{}'",
-            ty.keyword(),
-            show(tok)
-        ));
-    }
-    // `is_decimal` admits only ASCII, so this conversion cannot fail.
-    let s = std::str::from_utf8(tok)
-        .map_err(|_| format!("expected a number, found '{}'", show(tok)))?;
-    s.parse::<T>().map_err(|_| {
-        format!(
-            "expected a number for {}, found '{}'",
-            ty.keyword(),
-            show(tok)
-        )
-    })
-}
-
-impl AsciiNumber for f32 {
-    const TYPE: ScalarType = ScalarType::Float;
-    fn parse(tok: &[u8]) -> Result<Self, String> {
-        let v: f32 = real(tok, Self::TYPE)?;
-        if v.is_finite() {
-            Ok(v)
-        } else {
-            Err(format!("{} is out of range for float", show(tok)))
-        }
-    }
-}
-
-impl AsciiNumber for f64 {
-    const TYPE: ScalarType = ScalarType::Double;
-    fn parse(tok: &[u8]) -> Result<Self, String> {
-        let v: f64 = real(tok, Self::TYPE)?;
-        if !v.is_finite() {
-            Err(format!("{} is out of range for double", show(tok)))
-        } else if v.abs() > super::MAX_MAGNITUDE {
-            Err(format!(
-                "{} is too large: values up to ±{:e} are accepted (sums and products of larger ones overflow while rendering)",
-                show(tok),
-                super::MAX_MAGNITUDE
-            ))
-        } else {
-            Ok(v)
-        }
     }
 }
 
@@ -184,14 +61,9 @@ pub struct BlockInfo<'a> {
 
 /// If `line` (ignoring leading whitespace) starts with `@`, returns the trimmed text.
 pub fn marker_line(line: &[u8]) -> Option<&[u8]> {
-    let start = line.iter().position(|b| !b.is_ascii_whitespace())?;
-    (line[start] == b'@').then_some(&line[start..])
-}
-
-fn is_blank_or_comment(line: &[u8]) -> bool {
-    match line.iter().position(|b| !b.is_ascii_whitespace()) {
-        None => true,
-        Some(i) => line[i] == b'#',
+    match classify(line) {
+        Line::Marker(m) => Some(m),
+        _ => None,
     }
 }
 
@@ -234,6 +106,13 @@ pub fn read_block<R: BufRead>(
     })
 }
 
+/// The most bytes of rows parsed as one batch: a few dozen pieces, so every core is busy and a
+/// batch that runs past its block's end wastes little.
+const BATCH: usize = 1 << 20;
+
+/// The rows of a block go in batches of whole lines straight from the reader's buffer, parsed
+/// on every core ([`batch`]); a line the buffer does not hold whole goes through
+/// [`Input::next_line`]. Both meet the same rows, markers and errors in the same order.
 fn rows_into<R: BufRead, T: AsciiNumber>(
     input: &mut Input<R>,
     info: &BlockInfo,
@@ -246,69 +125,132 @@ fn rows_into<R: BufRead, T: AsciiNumber>(
     let numbers = ty.numbers();
     let io_err =
         |e: io::Error| ParseError::new(info.file, info.marker_line, format!("read error: {e}"));
+    let mut block_bytes = 0usize;
     loop {
-        let Some((line_no, line)) = input.next_line().map_err(io_err)? else {
-            return Ok(None);
+        // Near the block's end a batch is kept to about the rows still expected, so that little
+        // of the next block is parsed in vain: by the bytes per row so far, or generously (24
+        // bytes per number) before the first row.
+        let left = count.saturating_sub(*n_rows).max(1);
+        let per_row = match *n_rows {
+            0 => numbers.max(1) * 24,
+            n => block_bytes / n + 1,
         };
-        if let Some(m) = marker_line(line) {
-            return Ok(Some((m.to_vec(), line_no)));
-        }
-        if is_blank_or_comment(line) {
-            continue;
-        }
-        if *n_rows == count {
-            return Err(ParseError::new(
-                info.file,
-                info.marker_line,
-                format!(
-                    "block @{} ({}) has more than {count} rows ({} = {count}); the extra row is on line {line_no}",
-                    info.marker, info.what, info.count_keyword
-                ),
-            ));
-        }
-        let content = match line.iter().position(|&b| b == b'#') {
-            Some(i) => &line[..i],
-            None => line,
-        };
-        let mut found = 0usize;
-        for tok in content
-            .split(|b| b.is_ascii_whitespace())
-            .filter(|t| !t.is_empty())
-        {
-            found += 1;
-            if found > numbers {
-                continue;
+        let cap = left.saturating_mul(per_row).saturating_add(4096).min(BATCH);
+        let step = input
+            .with_lines(cap, |text, first_line| {
+                let pieces = batch::parse_lines::<T>(text, numbers);
+                join(pieces, first_line, info, ty, count, out, rows, n_rows)
+            })
+            .map_err(io_err)?;
+        match step {
+            Some((Joined::More, bytes)) => block_bytes += bytes,
+            Some((Joined::End(end), _)) => return end,
+            None => {
+                let Some((line_no, line)) = input.next_line().map_err(io_err)? else {
+                    return Ok(None);
+                };
+                block_bytes += line.len() + 1;
+                match classify(line) {
+                    Line::Marker(m) => return Ok(Some((m.to_vec(), line_no))),
+                    Line::Blank => {}
+                    Line::Row => {
+                        if *n_rows == count {
+                            return Err(extra_row(info, count, line_no));
+                        }
+                        parse_row(line, numbers, out)
+                            .map_err(|e| row_error(info, ty, line_no, *n_rows + 1, e))?;
+                        rows.push(*n_rows, line_no);
+                        *n_rows += 1;
+                    }
+                }
             }
-            let v = T::parse(tok).map_err(|msg| {
-                ParseError::new(
-                    info.file,
-                    line_no,
-                    format!(
-                        "{} {} of block @{}: {msg}",
-                        element_noun(info.what),
-                        *n_rows + 1,
-                        info.marker
-                    ),
-                )
-            })?;
-            out.push(v);
         }
-        if found != numbers {
-            return Err(ParseError::new(
-                info.file,
-                line_no,
-                format!(
-                    "{} {} of block @{}: expected {numbers} number{} ({ty}), found {found}",
-                    element_noun(info.what),
-                    *n_rows + 1,
-                    info.marker,
-                    if numbers == 1 { "" } else { "s" },
-                ),
-            ));
-        }
-        rows.push(*n_rows, line_no);
-        *n_rows += 1;
     }
+}
+
+/// Whether the block goes on after a batch, or how it ended.
+enum Joined {
+    More,
+    End(Result<Option<(Vec<u8>, usize)>, ParseError>),
+}
+
+/// Joins a batch's pieces in file order onto the block: their values and rows, up to the first
+/// marker or error. Returns the outcome with the bytes and lines used.
+#[allow(clippy::too_many_arguments)]
+fn join<T: AsciiNumber>(
+    pieces: Vec<batch::Piece<T>>,
+    first_line: usize,
+    info: &BlockInfo,
+    ty: DataType,
+    count: usize,
+    out: &mut Vec<T>,
+    rows: &mut RowLines,
+    n_rows: &mut usize,
+) -> ((Joined, usize), usize, usize) {
+    let (mut bytes, mut lines) = (0, 0);
+    for mut p in pieces {
+        let base = first_line + lines;
+        // A row beyond the count is an error at that row, before anything after it.
+        let room = count - *n_rows;
+        let extra = if p.n_rows > room {
+            p.rows.line_of(room)
+        } else {
+            match &p.stop {
+                Some(batch::Stop::Row { line, row, .. }) if *row >= room => Some(*line),
+                _ => None,
+            }
+        };
+        if let Some(line) = extra {
+            let e = Err(extra_row(info, count, base + line));
+            return ((Joined::End(e), bytes), bytes, lines);
+        }
+        out.append(&mut p.values);
+        rows.append_shifted(&p.rows, *n_rows, base);
+        let before = *n_rows;
+        *n_rows += p.n_rows;
+        bytes += p.bytes;
+        lines += p.lines;
+        match p.stop {
+            None => {}
+            Some(batch::Stop::Marker { line, text }) => {
+                let end = Joined::End(Ok(Some((text, base + line))));
+                return ((end, bytes), bytes, lines);
+            }
+            Some(batch::Stop::Row { line, row, error }) => {
+                let e = row_error(info, ty, base + line, before + row + 1, error);
+                return ((Joined::End(Err(e)), bytes), bytes, lines);
+            }
+        }
+    }
+    ((Joined::More, bytes), bytes, lines)
+}
+
+fn extra_row(info: &BlockInfo, count: usize, line: usize) -> ParseError {
+    ParseError::new(
+        info.file,
+        info.marker_line,
+        format!(
+            "block @{} ({}) has more than {count} rows ({} = {count}); the extra row is on line {line}",
+            info.marker, info.what, info.count_keyword
+        ),
+    )
+}
+
+/// The message for a refused row (`row` counts from 1).
+fn row_error(info: &BlockInfo, ty: DataType, line: usize, row: usize, e: RowError) -> ParseError {
+    let noun = element_noun(info.what);
+    let msg = match e {
+        RowError::Number(msg) => format!("{noun} {row} of block @{}: {msg}", info.marker),
+        RowError::Count(found) => {
+            let numbers = ty.numbers();
+            format!(
+                "{noun} {row} of block @{}: expected {numbers} number{} ({ty}), found {found}",
+                info.marker,
+                if numbers == 1 { "" } else { "s" },
+            )
+        }
+    };
+    ParseError::new(info.file, line, msg)
 }
 
 /// `Tetrahedra by Nodes` → `tetrahedron`, for row messages.
@@ -368,30 +310,6 @@ fn trim_float(s: &str) -> &str {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn integers_take_whole_numbers_only() {
-        assert_eq!(<i32 as AsciiNumber>::parse(b"-12"), Ok(-12));
-        assert!(<i32 as AsciiNumber>::parse(b"1.0").is_err());
-        assert!(
-            <u8 as AsciiNumber>::parse(b"256")
-                .unwrap_err()
-                .contains("out of range")
-        );
-        assert!(<i16 as AsciiNumber>::parse(b"40000").is_err());
-        assert!(<i32 as AsciiNumber>::parse(b"99999999999999999999999").is_err());
-        assert!(
-            <f32 as AsciiNumber>::parse(b"1e39")
-                .unwrap_err()
-                .contains("out of range")
-        );
-        assert_eq!(<f64 as AsciiNumber>::parse(b"1e150"), Ok(1e150));
-        assert!(
-            <f64 as AsciiNumber>::parse(b"1e308")
-                .unwrap_err()
-                .contains("too large")
-        );
-    }
 
     #[test]
     fn row_lines_follow_jumps() {

@@ -74,6 +74,40 @@ impl<R: BufRead> Input<R> {
         Ok(Some((self.line, &self.buf)))
     }
 
+    /// Hands `f` the complete lines at the front of the reader's buffer, about `cap` bytes of
+    /// them (at least one line), with the number of the first; `f` returns what it made and the
+    /// bytes and lines it used, which are then consumed. `None` when the buffer holds no whole
+    /// line (a line longer than the buffer, or the file's last line without `\n`): read that one
+    /// with [`Input::next_line`].
+    ///
+    /// Parsing straight from the buffer is what lets the rows of a batch be parsed in parallel
+    /// without copying them first.
+    pub fn with_lines<T>(
+        &mut self,
+        cap: usize,
+        f: impl FnOnce(&[u8], usize) -> (T, usize, usize),
+    ) -> io::Result<Option<T>> {
+        if self.line == 0 {
+            // The first line may carry a byte-order mark: next_line strips it.
+            return Ok(None);
+        }
+        let avail = self.reader.fill_buf()?;
+        let head = &avail[..cap.min(avail.len())];
+        let end = match memchr::memrchr(b'\n', head) {
+            Some(i) => i + 1,
+            None => match memchr::memchr(b'\n', &avail[head.len()..]) {
+                Some(i) => head.len() + i + 1,
+                None => return Ok(None),
+            },
+        };
+        let (made, bytes, lines) = f(&avail[..end], self.line + 1);
+        debug_assert!(bytes <= end);
+        self.reader.consume(bytes);
+        self.consumed(bytes);
+        self.line += lines;
+        Ok(Some(made))
+    }
+
     /// Reads up to `n` bytes, appending them to `out`; returns how many were read (fewer only at
     /// end of input).
     pub fn read_bytes(&mut self, n: usize, out: &mut Vec<u8>) -> io::Result<usize> {

@@ -29,11 +29,13 @@
 //! every coding is resolved to node indices and cross-checked. See [`read`](mod@read) and [`write`](mod@write).
 
 mod ascii;
+mod batch;
 mod binary;
 mod codec;
 pub mod header;
 mod input;
 pub mod read;
+mod row;
 mod volume;
 pub mod write;
 

@@ -55,7 +55,8 @@ pub fn read_file(path: &Path) -> Result<HyperMeshFile, Error> {
             std::io::Error::other("is a directory, expected a HyperMesh file"),
         ));
     }
-    let reader = BufReader::with_capacity(1 << 16, f);
+    // A buffer of one batch of ASCII rows (parsed on every core straight from it).
+    let reader = BufReader::with_capacity(1 << 20, f);
     Ok(read(reader, &path.display().to_string(), Some(meta.len()))?)
 }
 
@@ -169,3 +170,6 @@ struct Block {
 
 /// The header, the blocks (parallel to its declarations) and the resolved `Field` markers.
 type Blocks = (Header, Vec<Option<Block>>, Vec<(Interpolator, Vec<usize>)>);
+
+#[cfg(test)]
+mod tests;
