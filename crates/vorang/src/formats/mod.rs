@@ -29,6 +29,7 @@ pub mod hdf;
 pub mod hypermesh;
 pub mod lagrange;
 pub mod layout;
+mod lines;
 pub mod msh;
 mod text;
 pub mod vtk_legacy;

@@ -3,7 +3,7 @@
 //! rows by [`arrays`] once every node and element is known, since data may come before the mesh
 //! they describe and need not cover every node or element.
 
-use std::collections::HashMap;
+use super::tags::TagIndex;
 
 use super::Sections;
 use super::input::Msh;
@@ -95,15 +95,16 @@ impl Sections {
 pub(super) fn arrays(
     name: &str,
     data: Vec<Data>,
-    node_index: &HashMap<u64, usize>,
+    node_index: &TagIndex,
     element_tags: &[u64],
     desc: &MeshDescription,
 ) -> Result<(Vec<Array>, Vec<Array>), ParseError> {
-    let element_index: HashMap<u64, usize> = element_tags
-        .iter()
-        .enumerate()
-        .map(|(i, &t)| (t, i))
-        .collect();
+    // Only built where element data need it.
+    let element_index = if data.iter().any(|d| !d.on_nodes) {
+        TagIndex::of(element_tags)
+    } else {
+        TagIndex::default()
+    };
     let mut points = Vec::new();
     let mut cells = Vec::new();
     for d in data {
@@ -114,7 +115,7 @@ pub(super) fn arrays(
         };
         let mut values = vec![0.0; n * d.components];
         for (tag, v) in &d.entries {
-            let Some(&k) = index.get(tag) else {
+            let Some(k) = index.get(*tag) else {
                 return Err(ParseError::new(
                     name,
                     d.line,

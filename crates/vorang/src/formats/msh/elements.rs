@@ -8,7 +8,20 @@ use super::Sections;
 use super::input::Msh;
 use crate::error::ParseError;
 use crate::formats::cell_type;
+use crate::formats::lines;
 use crate::formats::text::parse_int;
+
+/// A row of exactly `out.len()` whole numbers ≥ 0 (as `Msh::size` reads them).
+pub(super) fn uints(line: &[u8], out: &mut [u64]) -> bool {
+    let mut t = lines::tokens(line);
+    for v in out.iter_mut() {
+        match t.uint() {
+            Some(x) => *v = x,
+            None => return false,
+        }
+    }
+    t.at_end()
+}
 
 /// VTK cell type and node count of a Gmsh element type (255 = a type VoRANG does not name).
 fn element_type(t: i64) -> Option<(u8, usize)> {
@@ -124,11 +137,11 @@ impl Sections {
                         phys = t;
                     }
                 }
-                let mut nodes = Vec::with_capacity(nn);
                 for _ in 0..nn {
-                    nodes.push(m.int("an element node")? as u64);
+                    let t = m.int("an element node")? as u64;
+                    self.raw_elements.tags.push(t);
                 }
-                self.add_element(id as u64, phys, (vtk, nodes, m.c.line));
+                self.add_element(id as u64, phys, vtk, m.c.line);
             }
             done += count;
         }
@@ -136,8 +149,32 @@ impl Sections {
     }
 
     /// 2.2 ASCII: `tag type ntags tag… node…` per line. An element type VoRANG does not know
-    /// is kept (as 255) with whatever nodes the line gives; it is skipped later.
+    /// is kept (as 255) with whatever nodes the line gives; it is skipped later. The lines are
+    /// parsed on every core where they are plain ([`lines`]), else token by token.
     fn elements_v2_ascii(&mut self, m: &mut Msh, n: usize) -> Result<(), ParseError> {
+        let row = |line: &[u8], out: &mut Vec<i64>| {
+            let at = out.len();
+            out.push(0);
+            for t in lines::tokens(line) {
+                match lines::int(t) {
+                    Some(v) => out.push(v),
+                    None => return false,
+                }
+            }
+            out[at] = (out.len() - at - 1) as i64;
+            out[at] > 0
+        };
+        if let Some(stream) = lines::parse_rows_with(&mut m.c, n, row) {
+            let first_line = m.c.line + 1 - n;
+            let mut rest = &stream[..];
+            for k in 0..n {
+                let (len, tail) = rest.split_first().expect("a row's count");
+                let (nums, tail) = tail.split_at(*len as usize);
+                self.element_v2(m, nums, first_line + k)?;
+                rest = tail;
+            }
+            return Ok(());
+        }
         for _ in 0..n {
             let (first, eline) = m.c.expect_token("an element")?;
             let rest = m.c.rest_of_line();
@@ -152,37 +189,45 @@ impl Sections {
                     })
                 })
                 .collect::<Result<_, _>>()?;
-            if nums.len() < 3 {
+            self.element_v2(m, &nums, eline)?;
+        }
+        Ok(())
+    }
+
+    /// One 2.2 ASCII element line's numbers (read at `eline`).
+    fn element_v2(&mut self, m: &Msh, nums: &[i64], eline: usize) -> Result<(), ParseError> {
+        if nums.len() < 3 {
+            return Err(m.c.err_at(
+                eline,
+                "an element line needs a tag, a type and a number of tags",
+            ));
+        }
+        let ntags = usize::try_from(nums[2].max(0)).unwrap_or(usize::MAX);
+        if nums.len() - 3 < ntags {
+            return Err(m
+                .c
+                .err_at(eline, "the element line is shorter than its number of tags"));
+        }
+        let nodes = &nums[3 + ntags..];
+        let vtk = match element_type(nums[1]) {
+            Some((vtk, nn)) if nn == nodes.len() => vtk,
+            Some((_, nn)) => {
                 return Err(m.c.err_at(
                     eline,
-                    "an element line needs a tag, a type and a number of tags",
+                    format!(
+                        "element {}: type {} has {nn} nodes, the line gives {}",
+                        nums[0],
+                        nums[1],
+                        nodes.len()
+                    ),
                 ));
             }
-            let ntags = usize::try_from(nums[2].max(0)).unwrap_or(usize::MAX);
-            if nums.len() - 3 < ntags {
-                return Err(m
-                    .c
-                    .err_at(eline, "the element line is shorter than its number of tags"));
-            }
-            let nodes: Vec<u64> = nums[3 + ntags..].iter().map(|&x| x.max(0) as u64).collect();
-            let vtk = match element_type(nums[1]) {
-                Some((vtk, nn)) if nn == nodes.len() => vtk,
-                Some((_, nn)) => {
-                    return Err(m.c.err_at(
-                        eline,
-                        format!(
-                            "element {}: type {} has {nn} nodes, the line gives {}",
-                            nums[0],
-                            nums[1],
-                            nodes.len()
-                        ),
-                    ));
-                }
-                None => 255,
-            };
-            let phys = if ntags > 0 { nums[3] } else { 0 };
-            self.add_element(nums[0] as u64, phys, (vtk, nodes, eline));
-        }
+            None => 255,
+        };
+        let phys = if ntags > 0 { nums[3] } else { 0 };
+        let tags = nodes.iter().map(|&x| x.max(0) as u64);
+        self.raw_elements.tags.extend(tags);
+        self.add_element(nums[0] as u64, phys, vtk, eline);
         Ok(())
     }
 
@@ -198,7 +243,7 @@ impl Sections {
         let blocks = m.bounded(blocks, 4, "the number of element blocks", line)?;
         m.bounded(total, 8, "the number of elements", line)?;
         for _ in 0..blocks {
-            let bline = m.c.line;
+            let bline = m.next_line_no();
             let dim = m.int("the entity dimension")?;
             let tag = m.int("the entity tag")?;
             let ty = m.int("the element type")?;
@@ -212,24 +257,41 @@ impl Sections {
                 bline,
             )?;
             let phys = self.entity_physical.get(&(dim, tag)).copied().unwrap_or(0);
-            for _ in 0..n {
-                let eline = m.c.line;
-                let id = m.size("an element tag")?;
-                let mut nodes = Vec::with_capacity(nn);
-                for _ in 0..nn {
-                    nodes.push(m.size("an element node")?);
+            if !m.binary
+                && let Some(rows) = lines::parse_rows(&mut m.c, n, 1 + nn, uints)
+            {
+                let first_line = m.c.line + 1 - n;
+                for (k, e) in rows.chunks_exact(1 + nn).enumerate() {
+                    self.raw_elements.tags.extend_from_slice(&e[1..]);
+                    self.add_element(e[0], phys, vtk, first_line + k);
                 }
-                self.add_element(id, phys, (vtk, nodes, eline));
+                continue;
+            }
+            for _ in 0..n {
+                let eline = m.next_line_no();
+                let id = m.size("an element tag")?;
+                for _ in 0..nn {
+                    let t = m.size("an element node")?;
+                    self.raw_elements.tags.push(t);
+                }
+                self.add_element(id, phys, vtk, eline);
             }
         }
         Ok(())
     }
 
-    /// One element: its tag, physical group and (VTK type, node tags, line).
-    fn add_element(&mut self, tag: u64, physical: i64, element: (u8, Vec<u64>, usize)) {
+    /// One element: its tag, physical group, VTK type and line; its node tags have just been
+    /// pushed onto `raw_elements.tags`.
+    fn add_element(&mut self, tag: u64, physical: i64, vtk: u8, line: usize) {
         self.element_tags.push(tag);
         self.physical.push(physical);
-        self.raw_elements.push(element);
+        let raw = &mut self.raw_elements;
+        if raw.offsets.is_empty() {
+            raw.offsets.push(0);
+        }
+        raw.types.push(vtk);
+        raw.offsets.push(raw.tags.len());
+        raw.lines.push(line);
     }
 
     /// Node tags → node indices, into the description's cells (with the 10-node tetrahedron's
@@ -238,15 +300,18 @@ impl Sections {
     pub(super) fn connect_elements(&mut self, name: &str) -> Result<(), ParseError> {
         let desc = &mut self.desc;
         desc.cells.offsets.push(0);
-        for (i, (vtk, tags, eline)) in self.raw_elements.iter().enumerate() {
-            let mut nodes = Vec::with_capacity(tags.len());
+        let raw = &self.raw_elements;
+        let mut nodes = Vec::new();
+        for (i, (&vtk, &eline)) in raw.types.iter().zip(&raw.lines).enumerate() {
+            let tags = &raw.tags[raw.offsets[i]..raw.offsets[i + 1]];
+            nodes.clear();
             for &t in tags {
-                match self.node_index.get(&t) {
-                    Some(&k) => nodes.push(k as u64),
-                    None if cell_type::volume_nodes(*vtk).is_some() => {
+                match self.node_index.get(t) {
+                    Some(k) => nodes.push(k as u64),
+                    None if cell_type::volume_nodes(vtk).is_some() => {
                         return Err(ParseError::new(
                             name,
-                            *eline,
+                            eline,
                             format!(
                                 "element {} refers to node tag {t}, which $Nodes does not define",
                                 self.element_tags[i]
@@ -256,15 +321,15 @@ impl Sections {
                     None => nodes.push(0),
                 }
             }
-            if *vtk == cell_type::QUADRATIC_TETRA {
+            if vtk == cell_type::QUADRATIC_TETRA {
                 nodes.swap(8, 9);
             }
-            if let Some(order) = vtk_order(*vtk)
+            if let Some(order) = vtk_order(vtk)
                 && nodes.len() == order.len()
             {
                 nodes = order.iter().map(|&k| nodes[k]).collect();
             }
-            desc.cells.push(*vtk, &nodes);
+            desc.cells.push(vtk, &nodes);
         }
         Ok(())
     }

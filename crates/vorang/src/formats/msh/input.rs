@@ -34,6 +34,15 @@ impl<'a> Msh<'a> {
         Ok(u64::from_le_bytes(w))
     }
 
+    /// The line the next token is on (ASCII; in binary data lines mean nothing, and the cursor
+    /// must not skip bytes that look like blanks).
+    pub(super) fn next_line_no(&mut self) -> usize {
+        if !self.binary {
+            self.c.skip_space();
+        }
+        self.c.line
+    }
+
     /// A signed 32-bit int (binary) or an integer token (ASCII).
     pub(super) fn int(&mut self, what: &str) -> Result<i64, ParseError> {
         if self.binary {

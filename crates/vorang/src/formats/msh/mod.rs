@@ -21,11 +21,17 @@
 //! `$ElementData`), each reading both versions and both encodings through `input`, which hides
 //! whether a number is a token or a binary word. Elements and data refer to nodes by tag and may
 //! come in any order, so tags are resolved only once every section has been read (`finish`).
+//!
+//! In ASCII files the rows of `$Nodes` and `$Elements` are parsed on every core where each row
+//! is one line, as Gmsh and meshio write them ([`super::lines`]); anything else is read token by
+//! token, with the same result. Tags are found through [`tags::TagIndex`], a vector for the
+//! usual 1…n numbering.
 
 mod data;
 mod elements;
 mod input;
 mod nodes;
+mod tags;
 
 use std::collections::HashMap;
 
@@ -34,6 +40,7 @@ use super::{Array, ArrayValues, MeshDescription};
 use crate::error::ParseError;
 use data::Data;
 use input::{Msh, find};
+use tags::TagIndex;
 
 pub fn sniff(head: &[u8]) -> bool {
     let start = head
@@ -58,13 +65,13 @@ pub fn read(bytes: &[u8], name: &str) -> Result<MeshDescription, ParseError> {
             format: format!("Gmsh {ver} {}", if m.binary { "binary" } else { "ASCII" }),
             ..MeshDescription::default()
         },
-        node_index: HashMap::new(),
+        node_index: TagIndex::default(),
         element_tags: Vec::new(),
         physical: Vec::new(),
         has_physical: false,
         entity_physical: HashMap::new(),
         data: Vec::new(),
-        raw_elements: Vec::new(),
+        raw_elements: RawElements::default(),
     };
     while let Some((sec, line)) = m.c.token() {
         r.section(&mut m, sec, line)?;
@@ -122,7 +129,7 @@ struct Sections {
     version: u8,
     desc: MeshDescription,
     /// Node tag → index in `desc.nodes`.
-    node_index: HashMap<u64, usize>,
+    node_index: TagIndex,
     /// Per element, in file order: its tag, its physical group (0 = none) and, in
     /// `raw_elements`, its VTK type, node tags and line.
     element_tags: Vec<u64>,
@@ -132,7 +139,20 @@ struct Sections {
     /// 4.1: (dim, entity tag) → first physical tag.
     entity_physical: HashMap<(i64, i64), i64>,
     data: Vec<Data>,
-    raw_elements: Vec<(u8, Vec<u64>, usize)>,
+    raw_elements: RawElements,
+}
+
+/// The elements as read, before their node tags are resolved: flat, one allocation per array
+/// rather than one per element.
+#[derive(Debug, Default)]
+struct RawElements {
+    /// VTK cell type (255: a type VoRANG does not name).
+    types: Vec<u8>,
+    /// Element `i`'s node tags are `tags[offsets[i]..offsets[i + 1]]`.
+    offsets: Vec<usize>,
+    tags: Vec<u64>,
+    /// The line each element was read at, for messages.
+    lines: Vec<usize>,
 }
 
 impl Sections {
@@ -195,3 +215,6 @@ fn skip_section(m: &mut Msh, s: &str, line: usize) -> Result<(), ParseError> {
         m.end(&s[1..])
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -3,8 +3,23 @@
 //! stored in file order and found by tag through `node_index`, since tags may be sparse.
 
 use super::Sections;
+use super::elements::uints;
 use super::input::Msh;
 use crate::error::ParseError;
+use crate::formats::lines;
+
+/// A row of exactly three decimal numbers (coordinates).
+fn floats3(line: &[u8], out: &mut [[f64; 3]]) -> bool {
+    let mut t = lines::tokens(line);
+    let mut num = || t.next().and_then(lines::float);
+    match [num(), num(), num()] {
+        [Some(x), Some(y), Some(z)] if t.at_end() => {
+            out[0] = [x, y, z];
+            true
+        }
+        _ => false,
+    }
+}
 
 impl Sections {
     /// `$Entities` (4.1): points, curves, surfaces and volumes with their physical tags.
@@ -65,11 +80,33 @@ impl Sections {
             m.c.next_line();
         }
         self.desc.nodes.reserve(n);
+        if !m.binary
+            && let Some(rows) = lines::parse_rows(&mut m.c, n, 1, |line, out| {
+                let mut t = lines::tokens(line);
+                let Some(tag) = t.next().and_then(lines::int) else {
+                    return false;
+                };
+                let mut num = || t.next().and_then(lines::float);
+                match [num(), num(), num()] {
+                    [Some(x), Some(y), Some(z)] if t.at_end() => {
+                        out[0] = (tag, [x, y, z]);
+                        true
+                    }
+                    _ => false,
+                }
+            })
+        {
+            let first_line = m.c.line + 1 - n;
+            for (k, (tag, p)) in rows.into_iter().enumerate() {
+                self.add_node(m, first_line + k, tag as u64, tag, p)?;
+            }
+            return Ok(());
+        }
         for _ in 0..n {
             let tag = m.int("a node tag")?;
             let p = [m.double("x")?, m.double("y")?, m.double("z")?];
             // The tag as written (a negative one is named as such).
-            self.add_node(m, tag as u64, tag, p)?;
+            self.add_node(m, m.c.line, tag as u64, tag, p)?;
         }
         Ok(())
     }
@@ -87,7 +124,7 @@ impl Sections {
         let total = m.bounded(total, 8, "the number of nodes", line)?;
         self.desc.nodes.reserve(total);
         for _ in 0..blocks {
-            let bline = m.c.line;
+            let bline = m.next_line_no();
             let _dim = m.int("the entity dimension")?;
             let _tag = m.int("the entity tag")?;
             let parametric = m.int("the parametric flag")?;
@@ -99,28 +136,45 @@ impl Sections {
                     "parametric node coordinates are not supported; save the mesh without them",
                 ));
             }
-            let mut tags = Vec::with_capacity(n);
-            for _ in 0..n {
-                tags.push(m.size("a node tag")?);
+            let tags = match (!m.binary)
+                .then(|| lines::parse_rows(&mut m.c, n, 1, uints))
+                .flatten()
+            {
+                Some(tags) => tags,
+                None => (0..n)
+                    .map(|_| m.size("a node tag"))
+                    .collect::<Result<_, _>>()?,
+            };
+            let coords = (!m.binary)
+                .then(|| lines::parse_rows(&mut m.c, n, 1, floats3))
+                .flatten();
+            if let Some(coords) = coords {
+                let first_line = m.c.line + 1 - n;
+                for (k, (&tag, p)) in tags.iter().zip(coords).enumerate() {
+                    self.add_node(m, first_line + k, tag, tag, p)?;
+                }
+                continue;
             }
             for tag in tags {
                 let p = [m.double("x")?, m.double("y")?, m.double("z")?];
-                self.add_node(m, tag, tag, p)?;
+                self.add_node(m, m.c.line, tag, tag, p)?;
             }
         }
         Ok(())
     }
 
-    /// A node with tag `tag` (`shown` in messages), which must not repeat an earlier one.
+    /// A node with tag `tag` (`shown` in messages, read at `line`), which must not repeat an
+    /// earlier one.
     fn add_node(
         &mut self,
         m: &Msh,
+        line: usize,
         tag: u64,
         shown: impl std::fmt::Display,
         p: [f64; 3],
     ) -> Result<(), ParseError> {
-        if self.node_index.insert(tag, self.desc.nodes.len()).is_some() {
-            return Err(m.c.err(format!("node tag {shown} appears twice")));
+        if !self.node_index.insert(tag, self.desc.nodes.len()) {
+            return Err(m.c.err_at(line, format!("node tag {shown} appears twice")));
         }
         self.desc.nodes.push(p);
         Ok(())
