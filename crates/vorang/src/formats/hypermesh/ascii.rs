@@ -6,39 +6,10 @@ use std::io::{self, BufRead, Write};
 
 use super::batch;
 use super::input::Input;
+pub use super::row::RowLines;
 use super::row::{AsciiNumber, Line, RowError, classify, parse_row};
 use crate::data::{DataType, Values};
 use crate::error::ParseError;
-
-/// The file line of every row of a block, stored compactly: rows are consecutive lines except
-/// where blank or comment lines interrupt them, and only those jumps are recorded.
-#[derive(Debug, Clone, Default, PartialEq, Eq)]
-pub struct RowLines {
-    /// `(first row of a run, its line)`, sorted by row.
-    runs: Vec<(usize, usize)>,
-}
-
-impl RowLines {
-    pub(super) fn push(&mut self, row: usize, line: usize) {
-        if self.line_of(row) != Some(line) {
-            self.runs.push((row, line));
-        }
-    }
-
-    /// Appends `other`'s rows, numbered from `row0`, their lines shifted by `line0`.
-    pub(super) fn append_shifted(&mut self, other: &RowLines, row0: usize, line0: usize) {
-        for &(r, l) in &other.runs {
-            self.push(row0 + r, line0 + l);
-        }
-    }
-
-    /// The line of `row` (0-based), if the block has such a row.
-    pub fn line_of(&self, row: usize) -> Option<usize> {
-        let i = self.runs.partition_point(|&(r, _)| r <= row);
-        let (r, l) = *self.runs.get(i.checked_sub(1)?)?;
-        Some(l + (row - r))
-    }
-}
 
 /// What the rows of a block turned into, and where the block ended.
 pub struct AsciiBlock {
@@ -310,20 +281,6 @@ fn trim_float(s: &str) -> &str {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn row_lines_follow_jumps() {
-        let mut r = RowLines::default();
-        r.push(0, 10);
-        r.push(1, 11);
-        r.push(2, 14);
-        r.push(3, 15);
-        assert_eq!(r.line_of(0), Some(10));
-        assert_eq!(r.line_of(1), Some(11));
-        assert_eq!(r.line_of(2), Some(14));
-        assert_eq!(r.line_of(3), Some(15));
-        assert_eq!(r.runs.len(), 2);
-    }
 
     #[test]
     fn floats_print_shortest_and_round_trip() {

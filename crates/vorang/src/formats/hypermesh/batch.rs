@@ -9,8 +9,7 @@
 
 use rayon::prelude::*;
 
-use super::ascii::RowLines;
-use super::row::{AsciiNumber, Line, RowError, classify, parse_row};
+use super::row::{AsciiNumber, Line, RowError, RowLines, classify, parse_row};
 
 /// The bytes one piece covers: small enough that every core gets several per batch, large
 /// enough that handing one out costs little against parsing it.
