@@ -18,6 +18,8 @@
 //! threads, so the image does not depend on it even where the order matters (a visibility
 //! cycle, settled per pixel).
 
+use rayon::prelude::*;
+
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Mutex, MutexGuard, PoisonError};
 
@@ -431,7 +433,7 @@ pub(super) fn by_levels<C: Carry>(
     input: &SortInput,
     state: &mut [u8],
     carried: &mut [C],
-    fresh: impl Fn(usize) -> C,
+    fresh: impl Fn(usize) -> C + Sync,
     threads: usize,
     in_levels: bool,
 ) -> Levelled {
@@ -478,12 +480,15 @@ pub(super) fn by_levels<C: Carry>(
             break;
         };
         forced.push(level);
-        for (k, chunk) in chunks.iter_mut().enumerate().filter(|_| carries::<C>()) {
-            for (i, (s, carried)) in chunk.state.iter().zip(chunk.carried.iter_mut()).enumerate() {
-                if s & QUEUED == 0 {
-                    *carried = fresh((k << chunking.shift) + i);
+        if carries::<C>() {
+            chunks.par_iter_mut().enumerate().for_each(|(k, chunk)| {
+                let cells = chunk.state.iter().zip(chunk.carried.iter_mut());
+                for (i, (s, carried)) in cells.enumerate() {
+                    if s & QUEUED == 0 {
+                        *carried = fresh((k << chunking.shift) + i);
+                    }
                 }
-            }
+            });
         }
         let chunk = &mut chunks[chunking.of(c as u32)];
         chunk.state[chunking.within(c as u32)] |= QUEUED;

@@ -126,9 +126,13 @@ impl Ord for Far {
 /// is broken.
 pub(super) fn farthest_waiting(
     input: &SortInput,
-    waiting: impl Fn(usize) -> bool,
+    waiting: impl Fn(usize) -> bool + Sync,
 ) -> Option<usize> {
+    // On every core: the comparison orders all cells (ties by number), so the result does not
+    // depend on how the search is split.
     (0..input.mesh.tet_count())
+        .into_par_iter()
+        .with_min_len(1 << 14)
         .filter(|&c| waiting(c))
         .max_by(|&a, &b| depth(input, a).total_cmp(&depth(input, b)).then(b.cmp(&a)))
 }
