@@ -1,5 +1,5 @@
-//! Loading benchmarks (issue: foundation): reading BINARY and ASCII HyperMesh files of generated
-//! jittered boxes, and building the face adjacency, at 20k, 150k and 1M tetrahedra.
+//! Loading benchmarks: reading BINARY and ASCII HyperMesh files and Gmsh 4.1 ASCII files of
+//! generated jittered boxes, and building the face adjacency, at 20k, 150k and 1M tetrahedra.
 //!
 //! Run: `cargo bench --bench hypermesh`. The files are generated into a temporary folder once.
 
@@ -20,6 +20,36 @@ struct Files {
     _dir: tempfile::TempDir,
     binary: Vec<PathBuf>,
     ascii: Vec<PathBuf>,
+    msh: Vec<PathBuf>,
+}
+
+/// The box as Gmsh writes a 4.1 ASCII file: one node block, one element block, a row a line.
+fn write_msh(vol: &vorang::Volume, path: &std::path::Path) {
+    use std::fmt::Write as _;
+    let (nodes, tets) = (vol.mesh.nodes(), vol.mesh.tets());
+    let (n, m) = (nodes.len(), tets.len());
+    let mut t = format!("$MeshFormat\n4.1 0 8\n$EndMeshFormat\n$Nodes\n1 {n} 1 {n}\n3 1 0 {n}\n");
+    for i in 1..=n {
+        writeln!(t, "{i}").unwrap();
+    }
+    for p in nodes {
+        writeln!(t, "{} {} {}", p[0], p[1], p[2]).unwrap();
+    }
+    write!(t, "$EndNodes\n$Elements\n1 {m} 1 {m}\n3 1 4 {m}\n").unwrap();
+    for (i, c) in tets.iter().enumerate() {
+        writeln!(
+            t,
+            "{} {} {} {} {}",
+            i + 1,
+            c[0] + 1,
+            c[1] + 1,
+            c[2] + 1,
+            c[3] + 1
+        )
+        .unwrap();
+    }
+    t.push_str("$EndElements\n");
+    std::fs::write(path, t).expect("write benchmark file");
 }
 
 fn files() -> &'static Files {
@@ -28,8 +58,12 @@ fn files() -> &'static Files {
         let dir = tempfile::tempdir().expect("temporary folder");
         let mut binary = Vec::new();
         let mut ascii = Vec::new();
+        let mut msh = Vec::new();
         for n in SIZES {
             let vol = jittered_box(n, 0.1, 1);
+            let path = dir.path().join(format!("box{n}.msh"));
+            write_msh(&vol, &path);
+            msh.push(path);
             for (enc, list, ext) in [
                 (Encoding::Binary, &mut binary, "bin"),
                 (Encoding::Ascii, &mut ascii, "hmesh"),
@@ -47,6 +81,7 @@ fn files() -> &'static Files {
             _dir: dir,
             binary,
             ascii,
+            msh,
         }
     })
 }
@@ -64,6 +99,12 @@ fn read_binary(bencher: divan::Bencher, n: usize) {
 #[divan::bench(args = SIZES, sample_count = 10)]
 fn read_ascii(bencher: divan::Bencher, n: usize) {
     let path = &files().ascii[index(n)];
+    bencher.bench(|| vorang::Volume::load(path).expect("read"));
+}
+
+#[divan::bench(args = SIZES, sample_count = 10)]
+fn read_msh(bencher: divan::Bencher, n: usize) {
+    let path = &files().msh[index(n)];
     bencher.bench(|| vorang::Volume::load(path).expect("read"));
 }
 
