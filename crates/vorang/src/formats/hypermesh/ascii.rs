@@ -53,12 +53,28 @@ pub fn read_block<R: BufRead>(
     let mut values = Values::with_capacity(ty.scalar, capacity);
     let mut rows = RowLines::default();
     let mut n_rows = 0usize;
+    // One reader per number type: the rows go straight into the typed vector.
+    macro_rules! rows_of {
+        ($v:expr) => {
+            rows_into(
+                input,
+                &mut Block {
+                    info,
+                    ty,
+                    count,
+                    out: $v,
+                    rows: &mut rows,
+                    n_rows: &mut n_rows,
+                },
+            )
+        };
+    }
     let next_marker = match &mut values {
-        Values::U8(v) => rows_into(input, info, ty, count, v, &mut rows, &mut n_rows),
-        Values::I16(v) => rows_into(input, info, ty, count, v, &mut rows, &mut n_rows),
-        Values::I32(v) => rows_into(input, info, ty, count, v, &mut rows, &mut n_rows),
-        Values::F32(v) => rows_into(input, info, ty, count, v, &mut rows, &mut n_rows),
-        Values::F64(v) => rows_into(input, info, ty, count, v, &mut rows, &mut n_rows),
+        Values::U8(v) => rows_of!(v),
+        Values::I16(v) => rows_of!(v),
+        Values::I32(v) => rows_of!(v),
+        Values::F32(v) => rows_of!(v),
+        Values::F64(v) => rows_of!(v),
     }?;
     if n_rows < count {
         return Err(ParseError::new(
@@ -86,13 +102,11 @@ const BATCH: usize = 1 << 20;
 /// [`Input::next_line`]. Both meet the same rows, markers and errors in the same order.
 fn rows_into<R: BufRead, T: AsciiNumber>(
     input: &mut Input<R>,
-    info: &BlockInfo,
-    ty: DataType,
-    count: usize,
-    out: &mut Vec<T>,
-    rows: &mut RowLines,
-    n_rows: &mut usize,
+    b: &mut Block<T>,
 ) -> Result<Option<(Vec<u8>, usize)>, ParseError> {
+    let Block {
+        info, ty, count, ..
+    } = *b;
     let numbers = ty.numbers();
     let io_err =
         |e: io::Error| ParseError::new(info.file, info.marker_line, format!("read error: {e}"));
@@ -101,8 +115,8 @@ fn rows_into<R: BufRead, T: AsciiNumber>(
         // Near the block's end a batch is kept to about the rows still expected, so that little
         // of the next block is parsed in vain: by the bytes per row so far, or generously (24
         // bytes per number) before the first row.
-        let left = count.saturating_sub(*n_rows).max(1);
-        let per_row = match *n_rows {
+        let left = count.saturating_sub(*b.n_rows).max(1);
+        let per_row = match *b.n_rows {
             0 => numbers.max(1) * 24,
             n => block_bytes / n + 1,
         };
@@ -110,7 +124,7 @@ fn rows_into<R: BufRead, T: AsciiNumber>(
         let step = input
             .with_lines(cap, |text, first_line| {
                 let pieces = batch::parse_lines::<T>(text, numbers);
-                join(pieces, first_line, info, ty, count, out, rows, n_rows)
+                join(pieces, first_line, b)
             })
             .map_err(io_err)?;
         match step {
@@ -125,18 +139,28 @@ fn rows_into<R: BufRead, T: AsciiNumber>(
                     Line::Marker(m) => return Ok(Some((m.to_vec(), line_no))),
                     Line::Blank => {}
                     Line::Row => {
-                        if *n_rows == count {
+                        if *b.n_rows == count {
                             return Err(extra_row(info, count, line_no));
                         }
-                        parse_row(line, numbers, out)
-                            .map_err(|e| row_error(info, ty, line_no, *n_rows + 1, e))?;
-                        rows.push(*n_rows, line_no);
-                        *n_rows += 1;
+                        parse_row(line, numbers, b.out)
+                            .map_err(|e| row_error(info, ty, line_no, *b.n_rows + 1, e))?;
+                        b.rows.push(*b.n_rows, line_no);
+                        *b.n_rows += 1;
                     }
                 }
             }
         }
     }
+}
+
+/// A block being read: what it is, and its rows so far.
+struct Block<'a, T> {
+    info: &'a BlockInfo<'a>,
+    ty: DataType,
+    count: usize,
+    out: &'a mut Vec<T>,
+    rows: &'a mut RowLines,
+    n_rows: &'a mut usize,
 }
 
 /// Whether the block goes on after a batch, or how it ended.
@@ -147,17 +171,15 @@ enum Joined {
 
 /// Joins a batch's pieces in file order onto the block: their values and rows, up to the first
 /// marker or error. Returns the outcome with the bytes and lines used.
-#[allow(clippy::too_many_arguments)]
 fn join<T: AsciiNumber>(
     pieces: Vec<batch::Piece<T>>,
     first_line: usize,
-    info: &BlockInfo,
-    ty: DataType,
-    count: usize,
-    out: &mut Vec<T>,
-    rows: &mut RowLines,
-    n_rows: &mut usize,
+    b: &mut Block<T>,
 ) -> ((Joined, usize), usize, usize) {
+    let Block {
+        info, ty, count, ..
+    } = *b;
+    let (out, rows, n_rows) = (&mut *b.out, &mut *b.rows, &mut *b.n_rows);
     let (mut bytes, mut lines) = (0, 0);
     for mut p in pieces {
         let base = first_line + lines;
