@@ -10,7 +10,7 @@
 
 use rayon::prelude::*;
 
-use super::text::Cursor;
+use super::text::{Cursor, count_lines};
 
 #[cfg(test)]
 thread_local! {
@@ -73,15 +73,6 @@ fn pieces(c: &Cursor, n: usize) -> Option<(Vec<(usize, usize)>, usize)> {
         }
     };
     Some((pieces, end))
-}
-
-/// The line ends in `block`: byte sums of 64 comparisons at a time, which the compiler turns
-/// into vector compares (a plain filtered count ran at under 2 GB/s).
-fn count_lines(block: &[u8]) -> usize {
-    block
-        .chunks(64)
-        .map(|c| usize::from(c.iter().map(|&b| u8::from(b == b'\n')).sum::<u8>()))
-        .sum()
 }
 
 /// Moves the cursor past `n` rows ending at `end`, to where reading them token by token stops:

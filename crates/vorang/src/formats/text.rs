@@ -132,10 +132,19 @@ impl<'a> Cursor<'a> {
             )));
         }
         let s = &self.bytes[self.pos..self.pos + n];
-        self.line += s.iter().filter(|&&b| b == b'\n').count();
+        self.line += count_lines(s);
         self.pos += n;
         Ok(s)
     }
+}
+
+/// The line ends in `bytes`: byte sums of 64 comparisons at a time, which the compiler turns
+/// into vector compares (a plain filtered count ran at under 2 GB/s).
+pub fn count_lines(bytes: &[u8]) -> usize {
+    bytes
+        .chunks(64)
+        .map(|c| usize::from(c.iter().map(|&b| u8::from(b == b'\n')).sum::<u8>()))
+        .sum()
 }
 
 pub fn parse_int(t: &str) -> Option<i64> {

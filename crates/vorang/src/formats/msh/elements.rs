@@ -128,20 +128,16 @@ impl Sections {
                 return Err(m.c.err(format!("element block of {count} elements with {ntags} tags does not fit the {n} elements declared")));
             }
             let count = m.bounded(count as u64, 4 * (1 + nn), "the element block", line)?;
-            for _ in 0..count {
-                let id = m.int("an element tag")?;
-                let mut phys = 0;
-                for k in 0..ntags {
-                    let t = m.int("an element tag value")?;
-                    if k == 0 {
-                        phys = t;
-                    }
-                }
-                for _ in 0..nn {
-                    let t = m.int("an element node")? as u64;
-                    self.raw_elements.tags.push(t);
-                }
-                self.add_element(id as u64, phys, vtk, m.c.line);
+            // Per element: its tag, its tags (the first is the physical group), its nodes.
+            let width = 1 + ntags as usize + nn;
+            let words = m.words(count.saturating_mul(width), 4, "the element block")?;
+            let at = m.c.line;
+            for e in words.chunks_exact(width) {
+                let int = |w: u64| i64::from(w as u32 as i32);
+                let phys = if ntags > 0 { int(e[1]) } else { 0 };
+                let nodes = e[width - nn..].iter().map(|&w| int(w) as u64);
+                self.raw_elements.tags.extend(nodes);
+                self.add_element(int(e[0]) as u64, phys, vtk, at);
             }
             done += count;
         }
@@ -257,13 +253,20 @@ impl Sections {
                 bline,
             )?;
             let phys = self.entity_physical.get(&(dim, tag)).copied().unwrap_or(0);
-            if !m.binary
-                && let Some(rows) = lines::parse_rows(&mut m.c, n, 1 + nn, uints)
-            {
-                let first_line = m.c.line + 1 - n;
+            // Rows at once: binary words, or ASCII lines where they are plain.
+            let rows = if m.binary {
+                let size = m.size_t;
+                Some(m.words(n.saturating_mul(1 + nn), size, "the elements of a block")?)
+            } else {
+                lines::parse_rows(&mut m.c, n, 1 + nn, uints)
+            };
+            if let Some(rows) = rows {
+                // Binary data have no lines: every element is named at its block's.
+                let first_line = if m.binary { bline } else { m.c.line + 1 - n };
+                let step = usize::from(!m.binary);
                 for (k, e) in rows.chunks_exact(1 + nn).enumerate() {
                     self.raw_elements.tags.extend_from_slice(&e[1..]);
-                    self.add_element(e[0], phys, vtk, first_line + k);
+                    self.add_element(e[0], phys, vtk, first_line + k * step);
                 }
                 continue;
             }

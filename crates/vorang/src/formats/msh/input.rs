@@ -3,6 +3,8 @@
 //! order) in another. [`Msh`] hides the difference, so the section readers describe each
 //! section once; it also bounds every count by what the rest of the file can hold.
 
+use rayon::prelude::*;
+
 use crate::error::ParseError;
 use crate::formats::text::Cursor;
 
@@ -23,15 +25,39 @@ impl<'a> Msh<'a> {
 
     fn word(&mut self, size: usize, what: &str) -> Result<u64, ParseError> {
         let b = self.bytes(size, what)?;
-        let mut w = [0u8; 8];
-        if self.swap {
-            for (i, x) in b.iter().rev().enumerate() {
-                w[i] = *x;
-            }
-        } else {
-            w[..size].copy_from_slice(b);
-        }
-        Ok(u64::from_le_bytes(w))
+        Ok(word(b, self.swap))
+    }
+
+    /// `count` binary words of `size` bytes read at once and decoded on every core: reading
+    /// them one at a time (a bounds check and a line count each) was a tenth of a binary load.
+    pub(super) fn words(
+        &mut self,
+        count: usize,
+        size: usize,
+        what: &str,
+    ) -> Result<Vec<u64>, ParseError> {
+        let swap = self.swap;
+        let b = self.bytes(count.saturating_mul(size), what)?;
+        Ok(b.par_chunks_exact(size)
+            .with_min_len(1 << 12)
+            .map(|w| word(w, swap))
+            .collect())
+    }
+
+    /// `count` records of `size` bytes read at once, each decoded by `decode` on every core.
+    pub(super) fn records<T: Send>(
+        &mut self,
+        count: usize,
+        size: usize,
+        what: &str,
+        decode: impl Fn(&[u8], bool) -> T + Sync + Send,
+    ) -> Result<Vec<T>, ParseError> {
+        let swap = self.swap;
+        let b = self.bytes(count.saturating_mul(size), what)?;
+        Ok(b.par_chunks_exact(size)
+            .with_min_len(1 << 12)
+            .map(|r| decode(r, swap))
+            .collect())
     }
 
     /// The line the next token is on (ASCII; in binary data lines mean nothing, and the cursor
@@ -46,7 +72,8 @@ impl<'a> Msh<'a> {
     /// A signed 32-bit int (binary) or an integer token (ASCII).
     pub(super) fn int(&mut self, what: &str) -> Result<i64, ParseError> {
         if self.binary {
-            Ok(i64::from(self.word(4, what)? as u32 as i32))
+            let b = self.bytes(4, what)?;
+            Ok(int_word(b, self.swap))
         } else {
             self.c.int(what)
         }
@@ -105,6 +132,24 @@ impl<'a> Msh<'a> {
             }
         }
     }
+}
+
+/// A binary word of 1 to 8 bytes, little-endian unless `swap`.
+pub(super) fn word(b: &[u8], swap: bool) -> u64 {
+    let mut w = [0u8; 8];
+    if swap {
+        for (i, x) in b.iter().rev().enumerate() {
+            w[i] = *x;
+        }
+    } else {
+        w[..b.len()].copy_from_slice(b);
+    }
+    u64::from_le_bytes(w)
+}
+
+/// A binary `int` (4 bytes, signed) widened as the word-at-a-time reader does.
+pub(super) fn int_word(b: &[u8], swap: bool) -> i64 {
+    i64::from(word(b, swap) as u32 as i32)
 }
 
 pub(super) fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {

@@ -4,7 +4,7 @@
 
 use super::Sections;
 use super::elements::uints;
-use super::input::Msh;
+use super::input::{Msh, int_word, word};
 use crate::error::ParseError;
 use crate::formats::lines;
 
@@ -80,22 +80,31 @@ impl Sections {
             m.c.next_line();
         }
         self.desc.nodes.reserve(n);
-        if !m.binary
-            && let Some(rows) = lines::parse_rows(&mut m.c, n, 1, |line, out| {
-                let mut t = lines::tokens(line);
-                let Some(tag) = t.next().and_then(lines::int) else {
-                    return false;
-                };
-                let mut num = || t.next().and_then(lines::float);
-                match [num(), num(), num()] {
-                    [Some(x), Some(y), Some(z)] if t.at_end() => {
-                        out[0] = (tag, [x, y, z]);
-                        true
-                    }
-                    _ => false,
+        if m.binary {
+            // Per node: an int tag and three doubles.
+            let rows = m.records(n, 28, "the nodes", |r, swap| {
+                let x = |k: usize| f64::from_bits(word(&r[4 + 8 * k..12 + 8 * k], swap));
+                (int_word(&r[..4], swap), [x(0), x(1), x(2)])
+            })?;
+            for (tag, p) in rows {
+                self.add_node(m, m.c.line, tag as u64, tag, p)?;
+            }
+            return Ok(());
+        }
+        if let Some(rows) = lines::parse_rows(&mut m.c, n, 1, |line, out| {
+            let mut t = lines::tokens(line);
+            let Some(tag) = t.next().and_then(lines::int) else {
+                return false;
+            };
+            let mut num = || t.next().and_then(lines::float);
+            match [num(), num(), num()] {
+                [Some(x), Some(y), Some(z)] if t.at_end() => {
+                    out[0] = (tag, [x, y, z]);
+                    true
                 }
-            })
-        {
+                _ => false,
+            }
+        }) {
             let first_line = m.c.line + 1 - n;
             for (k, (tag, p)) in rows.into_iter().enumerate() {
                 self.add_node(m, first_line + k, tag as u64, tag, p)?;
@@ -136,18 +145,23 @@ impl Sections {
                     "parametric node coordinates are not supported; save the mesh without them",
                 ));
             }
-            let tags = match (!m.binary)
-                .then(|| lines::parse_rows(&mut m.c, n, 1, uints))
-                .flatten()
-            {
+            if m.binary {
+                let size = m.size_t;
+                let tags = m.words(n, size, "the node tags of a block")?;
+                let xyz = m.words(3 * n, 8, "the node coordinates of a block")?;
+                for (&tag, p) in tags.iter().zip(xyz.chunks_exact(3)) {
+                    let p = [0, 1, 2].map(|k| f64::from_bits(p[k]));
+                    self.add_node(m, m.c.line, tag, tag, p)?;
+                }
+                continue;
+            }
+            let tags = match lines::parse_rows(&mut m.c, n, 1, uints) {
                 Some(tags) => tags,
                 None => (0..n)
                     .map(|_| m.size("a node tag"))
                     .collect::<Result<_, _>>()?,
             };
-            let coords = (!m.binary)
-                .then(|| lines::parse_rows(&mut m.c, n, 1, floats3))
-                .flatten();
+            let coords = lines::parse_rows(&mut m.c, n, 1, floats3);
             if let Some(coords) = coords {
                 let first_line = m.c.line + 1 - n;
                 for (k, (&tag, p)) in tags.iter().zip(coords).enumerate() {

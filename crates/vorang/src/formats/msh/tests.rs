@@ -114,3 +114,100 @@ fn rows_on_every_core_read_as_tokens() {
         "only {failed} of 48 spoilt files failed to read"
     );
 }
+
+/// The box as a binary file (4.1 with two element blocks, or 2.2 with two tags per element),
+/// in either byte order.
+fn box_binary(cubes: usize, v4: bool, big_endian: bool) -> Vec<u8> {
+    let (nodes, tets) = kuhn_box([cubes, cubes, cubes + 1], [1.0; 3], 0.1, 3);
+    let (n, m) = (nodes.len() as u64, tets.len() as u64);
+    let mut b = Vec::new();
+    let w4 = |b: &mut Vec<u8>, v: u32| {
+        b.extend(if big_endian {
+            v.to_be_bytes()
+        } else {
+            v.to_le_bytes()
+        })
+    };
+    let w8 = |b: &mut Vec<u8>, v: u64| {
+        b.extend(if big_endian {
+            v.to_be_bytes()
+        } else {
+            v.to_le_bytes()
+        })
+    };
+    let version = if v4 { "4.1" } else { "2.2" };
+    b.extend(format!("$MeshFormat\n{version} 1 8\n").bytes());
+    w4(&mut b, 1);
+    b.extend(b"\n$EndMeshFormat\n$Nodes\n");
+    if v4 {
+        for v in [1, n, 1, n] {
+            w8(&mut b, v);
+        }
+        for v in [3, 1, 0] {
+            w4(&mut b, v);
+        }
+        w8(&mut b, n);
+        (1..=n).for_each(|t| w8(&mut b, t));
+        nodes.iter().flatten().for_each(|x| w8(&mut b, x.to_bits()));
+    } else {
+        b.extend(format!("{n}\n").bytes());
+        for (i, p) in nodes.iter().enumerate() {
+            w4(&mut b, i as u32 + 1);
+            p.iter().for_each(|x| w8(&mut b, x.to_bits()));
+        }
+    }
+    b.extend(b"\n$EndNodes\n$Elements\n");
+    if v4 {
+        for v in [2, m, 1, m] {
+            w8(&mut b, v);
+        }
+        let half = tets.len() / 2;
+        for (block, range) in [(1, 0..half), (2, half..tets.len())] {
+            for v in [3, block, 4] {
+                w4(&mut b, v);
+            }
+            w8(&mut b, range.len() as u64);
+            for i in range {
+                w8(&mut b, i as u64 + 1);
+                tets[i].iter().for_each(|&k| w8(&mut b, u64::from(k) + 1));
+            }
+        }
+    } else {
+        b.extend(format!("{m}\n").bytes());
+        for v in [4, m as u32, 2] {
+            w4(&mut b, v);
+        }
+        for (i, t) in tets.iter().enumerate() {
+            for v in [i as u32 + 1, 1 + i as u32 % 2, 1] {
+                w4(&mut b, v);
+            }
+            t.iter().for_each(|&k| w4(&mut b, k + 1));
+        }
+    }
+    b.extend(b"\n$EndElements\n");
+    b
+}
+
+/// Binary sections are read in bulk and decoded on every core: the same nodes, cells and
+/// physical groups as the ASCII file, in both byte orders.
+#[test]
+fn binary_files_read_as_ascii_ones() {
+    for v4 in [true, false] {
+        let ascii = box_lines(9, v4).join("\n") + "\n";
+        let want = read(ascii.as_bytes(), "a.msh").unwrap();
+        for big in [false, true] {
+            let got = read(&box_binary(9, v4, big), "b.msh").unwrap();
+            let case = format!("v4 {v4}, big-endian {big}");
+            assert!(got.nodes == want.nodes, "{case}: nodes");
+            assert!(got.cells == want.cells, "{case}: cells");
+            // Lines in binary data count stray newline bytes: only the values must agree.
+            let arrays = |d: &super::MeshDescription| {
+                let a = d.cell_arrays.iter();
+                a.map(|a| (a.name.clone(), a.values.clone()))
+                    .collect::<Vec<_>>()
+            };
+            assert!(arrays(&got) == arrays(&want), "{case}: cell arrays");
+            assert_eq!(want.cell_arrays.len(), usize::from(!v4), "{case}");
+        }
+    }
+}
