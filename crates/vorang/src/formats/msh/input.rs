@@ -36,12 +36,7 @@ impl<'a> Msh<'a> {
         size: usize,
         what: &str,
     ) -> Result<Vec<u64>, ParseError> {
-        let swap = self.swap;
-        let b = self.bytes(count.saturating_mul(size), what)?;
-        Ok(b.par_chunks_exact(size)
-            .with_min_len(1 << 12)
-            .map(|w| word(w, swap))
-            .collect())
+        self.records(count, size, what, word)
     }
 
     /// `count` records of `size` bytes read at once, each decoded by `decode` on every core.
