@@ -33,6 +33,26 @@ pub fn is_decimal(tok: &[u8]) -> bool {
     i == tok.len()
 }
 
+/// A whole number `[+-]? digits` of at most 18 digits (so it cannot overflow an `i64`).
+pub fn whole(tok: &[u8]) -> Option<i64> {
+    let (neg, digits) = match tok.first() {
+        Some(b'-') => (true, &tok[1..]),
+        Some(b'+') => (false, &tok[1..]),
+        _ => (false, tok),
+    };
+    if digits.is_empty() || digits.len() > 18 {
+        return None;
+    }
+    let mut v: i64 = 0;
+    for &d in digits {
+        if !d.is_ascii_digit() {
+            return None;
+        }
+        v = v * 10 + i64::from(d - b'0');
+    }
+    Some(if neg { -v } else { v })
+}
+
 /// A finite f64 written in the decimal grammar.
 pub fn parse_f64(tok: &str) -> Option<f64> {
     if !is_decimal(tok.as_bytes()) {

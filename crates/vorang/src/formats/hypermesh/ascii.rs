@@ -175,7 +175,7 @@ fn join<T: AsciiNumber>(
     pieces: Vec<batch::Piece<T>>,
     first_line: usize,
     b: &mut Block<T>,
-) -> ((Joined, usize), usize, usize) {
+) -> (Joined, usize, usize) {
     let Block {
         info, ty, count, ..
     } = *b;
@@ -195,7 +195,7 @@ fn join<T: AsciiNumber>(
         };
         if let Some(line) = extra {
             let e = Err(extra_row(info, count, base + line));
-            return ((Joined::End(e), bytes), bytes, lines);
+            return (Joined::End(e), bytes, lines);
         }
         out.append(&mut p.values);
         rows.append_shifted(&p.rows, *n_rows, base);
@@ -207,15 +207,15 @@ fn join<T: AsciiNumber>(
             None => {}
             Some(batch::Stop::Marker { line, text }) => {
                 let end = Joined::End(Ok(Some((text, base + line))));
-                return ((end, bytes), bytes, lines);
+                return (end, bytes, lines);
             }
             Some(batch::Stop::Row { line, row, error }) => {
                 let e = row_error(info, ty, base + line, before + row + 1, error);
-                return ((Joined::End(Err(e)), bytes), bytes, lines);
+                return (Joined::End(Err(e)), bytes, lines);
             }
         }
     }
-    ((Joined::More, bytes), bytes, lines)
+    (Joined::More, bytes, lines)
 }
 
 fn extra_row(info: &BlockInfo, count: usize, line: usize) -> ParseError {

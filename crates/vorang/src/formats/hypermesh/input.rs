@@ -76,7 +76,8 @@ impl<R: BufRead> Input<R> {
 
     /// Hands `f` the complete lines at the front of the reader's buffer, about `cap` bytes of
     /// them (at least one line), with the number of the first; `f` returns what it made and the
-    /// bytes and lines it used, which are then consumed. `None` when the buffer holds no whole
+    /// bytes and lines it used, which are then consumed; returns what `f` made and those bytes.
+    /// `None` when the buffer holds no whole
     /// line (a line longer than the buffer, or the file's last line without `\n`): read that one
     /// with [`Input::next_line`].
     ///
@@ -86,7 +87,7 @@ impl<R: BufRead> Input<R> {
         &mut self,
         cap: usize,
         f: impl FnOnce(&[u8], usize) -> (T, usize, usize),
-    ) -> io::Result<Option<T>> {
+    ) -> io::Result<Option<(T, usize)>> {
         if self.line == 0 {
             // The first line may carry a byte-order mark: next_line strips it.
             return Ok(None);
@@ -105,7 +106,7 @@ impl<R: BufRead> Input<R> {
         self.reader.consume(bytes);
         self.consumed(bytes);
         self.line += lines;
-        Ok(Some(made))
+        Ok(Some((made, bytes)))
     }
 
     /// Reads up to `n` bytes, appending them to `out`; returns how many were read (fewer only at
@@ -135,6 +136,6 @@ impl<R: BufRead> Input<R> {
     /// Advances the line counter by the newlines inside binary data, so that line numbers after
     /// a BINARY block still match what an editor shows.
     pub fn count_lines_in(&mut self, bytes: &[u8]) {
-        self.line += bytes.iter().filter(|&&b| b == b'\n').count();
+        self.line += crate::formats::text::count_lines(bytes);
     }
 }

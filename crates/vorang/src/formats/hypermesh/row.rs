@@ -3,7 +3,7 @@
 //! the parallel batches ([`super::batch`]), so both accept and refuse exactly the same text.
 
 use crate::data::ScalarType;
-use crate::numbers::is_decimal;
+use crate::numbers::{is_decimal, whole};
 
 /// The file line of every row of a block, stored compactly: rows are consecutive lines except
 /// where blank or comment lines interrupt them, and only those jumps are recorded.
@@ -104,25 +104,6 @@ pub(super) trait AsciiNumber: Copy + Send + Sync {
     fn parse(tok: &[u8]) -> Result<Self, String>;
 }
 
-fn integer(tok: &[u8]) -> Option<i64> {
-    let (neg, digits) = match tok.first() {
-        Some(b'-') => (true, &tok[1..]),
-        Some(b'+') => (false, &tok[1..]),
-        _ => (false, tok),
-    };
-    if digits.is_empty() || digits.len() > 18 {
-        return None;
-    }
-    let mut v: i64 = 0;
-    for &d in digits {
-        if !d.is_ascii_digit() {
-            return None;
-        }
-        v = v * 10 + i64::from(d - b'0');
-    }
-    Some(if neg { -v } else { v })
-}
-
 fn show(tok: &[u8]) -> String {
     let s = String::from_utf8_lossy(tok);
     if s.chars().count() > 40 {
@@ -134,7 +115,7 @@ fn show(tok: &[u8]) -> String {
 
 fn int_in_range(tok: &[u8], lo: i64, hi: i64, ty: ScalarType) -> Result<i64, String> {
     // The common case first: the message's extra inspection only for a bad token.
-    if let Some(v) = integer(tok).filter(|v| (lo..=hi).contains(v)) {
+    if let Some(v) = whole(tok).filter(|v| (lo..=hi).contains(v)) {
         return Ok(v);
     }
     let digits = tok
@@ -142,7 +123,7 @@ fn int_in_range(tok: &[u8], lo: i64, hi: i64, ty: ScalarType) -> Result<i64, Str
         .or(tok.strip_prefix(b"+"))
         .unwrap_or(tok);
     let too_long = digits.len() > 18 && digits.iter().all(u8::is_ascii_digit);
-    match integer(tok) {
+    match whole(tok) {
         Some(v) if (lo..=hi).contains(&v) => Ok(v),
         Some(_) => Err(format!(
             "{} is out of range for {} ({lo}…{hi})",

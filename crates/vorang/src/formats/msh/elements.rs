@@ -5,7 +5,7 @@
 //! blocks, ASCII or binary alike, the physical group from `$Entities`).
 
 use super::Sections;
-use super::input::Msh;
+use super::input::{Msh, int_of};
 use crate::error::ParseError;
 use crate::formats::cell_type;
 use crate::formats::lines;
@@ -133,11 +133,10 @@ impl Sections {
             let words = m.words(count.saturating_mul(width), 4, "the element block")?;
             let at = m.c.line;
             for e in words.chunks_exact(width) {
-                let int = |w: u64| i64::from(w as u32 as i32);
-                let phys = if ntags > 0 { int(e[1]) } else { 0 };
-                let nodes = e[width - nn..].iter().map(|&w| int(w) as u64);
+                let phys = if ntags > 0 { int_of(e[1]) } else { 0 };
+                let nodes = e[width - nn..].iter().map(|&w| int_of(w) as u64);
                 self.raw_elements.tags.extend(nodes);
-                self.add_element(int(e[0]) as u64, phys, vtk, at);
+                self.add_element(int_of(e[0]) as u64, phys, vtk, at);
             }
             done += count;
         }

@@ -144,7 +144,12 @@ pub(super) fn word(b: &[u8], swap: bool) -> u64 {
 
 /// A binary `int` (4 bytes, signed) widened as the word-at-a-time reader does.
 pub(super) fn int_word(b: &[u8], swap: bool) -> i64 {
-    i64::from(word(b, swap) as u32 as i32)
+    int_of(word(b, swap))
+}
+
+/// The `int` a 4-byte word holds.
+pub(super) fn int_of(w: u64) -> i64 {
+    i64::from(w as u32 as i32)
 }
 
 pub(super) fn find(hay: &[u8], needle: &[u8]) -> Option<usize> {
