@@ -4,12 +4,18 @@
 //! tags inline), 2.2 binary (blocks of one type with a common number of tags) and 4.1 (entity
 //! blocks, ASCII or binary alike, the physical group from `$Entities`).
 
-use super::Sections;
+use rayon::prelude::*;
+
 use super::input::{Msh, int_of};
+use super::{RawElements, Sections};
 use crate::error::ParseError;
 use crate::formats::cell_type;
 use crate::formats::lines;
 use crate::formats::text::parse_int;
+
+/// A node index not known (yet): a tag `$Nodes` does not define, or an index beyond 32 bits
+/// (stored as `u32::MAX` either way, as [`crate::formats::Cells`] does).
+const UNKNOWN: u32 = u32::MAX;
 
 /// A row of exactly `out.len()` whole numbers ≥ 0 (as `Msh::size` reads them).
 pub(super) fn uints(line: &[u8], out: &mut [u64]) -> bool {
@@ -299,40 +305,79 @@ impl Sections {
     /// Node tags → node indices, into the description's cells (with the 10-node tetrahedron's
     /// last two nodes swapped into VTK order). A volume cell must name defined nodes; other
     /// cells are skipped later, so an unknown tag there becomes node 0.
+    ///
+    /// The tags are looked up on every core, straight into the cells' connectivity (one
+    /// allocation of the final size); the elements' types and offsets move over as they are.
+    /// Only the elements that hold an unknown tag (or an index too large for 32 bits, which
+    /// looks the same) are looked at again one by one, in file order, so the first refused
+    /// element is the one a serial reader meets.
     pub(super) fn connect_elements(&mut self, name: &str) -> Result<(), ParseError> {
-        let desc = &mut self.desc;
-        desc.cells.offsets.push(0);
-        let raw = &self.raw_elements;
-        let mut nodes = Vec::new();
-        for (i, (&vtk, &eline)) in raw.types.iter().zip(&raw.lines).enumerate() {
-            let tags = &raw.tags[raw.offsets[i]..raw.offsets[i + 1]];
-            nodes.clear();
-            for &t in tags {
-                match self.node_index.get(t) {
-                    Some(k) => nodes.push(k as u64),
-                    None if cell_type::volume_nodes(vtk).is_some() => {
+        let RawElements {
+            types,
+            mut offsets,
+            tags,
+            lines,
+        } = std::mem::take(&mut self.raw_elements);
+        if offsets.is_empty() {
+            offsets.push(0);
+        }
+        let index = &self.node_index;
+        let mut nodes: Vec<u32> = tags
+            .par_iter()
+            .with_min_len(1 << 14)
+            .map(|&t| {
+                index
+                    .get(t)
+                    .map_or(UNKNOWN, |k| u32::try_from(k).unwrap_or(UNKNOWN))
+            })
+            .collect();
+        if nodes.par_iter().any(|&k| k == UNKNOWN) {
+            for (i, &vtk) in types.iter().enumerate() {
+                let (from, to) = (offsets[i], offsets[i + 1]);
+                if !nodes[from..to].contains(&UNKNOWN) {
+                    continue;
+                }
+                for (k, &t) in nodes[from..to].iter_mut().zip(&tags[from..to]) {
+                    if *k != UNKNOWN || index.get(t).is_some() {
+                        continue;
+                    }
+                    if cell_type::volume_nodes(vtk).is_some() {
                         return Err(ParseError::new(
                             name,
-                            eline,
+                            lines[i],
                             format!(
                                 "element {} refers to node tag {t}, which $Nodes does not define",
                                 self.element_tags[i]
                             ),
                         ));
                     }
-                    None => nodes.push(0),
+                    *k = 0;
                 }
             }
-            if vtk == cell_type::QUADRATIC_TETRA {
-                nodes.swap(8, 9);
-            }
-            if let Some(order) = vtk_order(vtk)
-                && nodes.len() == order.len()
-            {
-                nodes = order.iter().map(|&k| nodes[k]).collect();
-            }
-            desc.cells.push(vtk, &nodes);
         }
+        drop(tags);
+        for (i, &vtk) in types.iter().enumerate() {
+            let order = vtk_order(vtk);
+            if vtk != cell_type::QUADRATIC_TETRA && order.is_none() {
+                continue;
+            }
+            let cell = &mut nodes[offsets[i]..offsets[i + 1]];
+            if vtk == cell_type::QUADRATIC_TETRA {
+                cell.swap(8, 9);
+            }
+            if let Some(order) = order
+                && cell.len() == order.len()
+            {
+                let gmsh = cell.to_vec();
+                for (n, &k) in cell.iter_mut().zip(order) {
+                    *n = gmsh[k];
+                }
+            }
+        }
+        let cells = &mut self.desc.cells;
+        cells.types = types;
+        cells.offsets = offsets;
+        cells.connectivity = nodes;
         Ok(())
     }
 }

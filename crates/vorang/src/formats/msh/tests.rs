@@ -211,3 +211,64 @@ fn binary_files_read_as_ascii_ones() {
         }
     }
 }
+
+/// Node tags become node indices on every core: a mixed 2.2 file whose tags are not the node
+/// numbers, with elements Gmsh and VTK number alike (the tetrahedron), one node pair apart (the
+/// 10-node tetrahedron) and all apart (the 20-node hexahedron), between them a triangle that
+/// names an unknown node (kept as node 0: it is skipped later). A volume element naming an
+/// unknown tag is refused at its own line, the first of two such.
+#[test]
+fn node_tags_become_indices_in_every_element() {
+    // Node k (0-based) has tag 200 − 3k: no tag is its index.
+    let tag = |k: usize| 200 - 3 * k;
+    let mut l = vec!["$MeshFormat", "2.2 0 8", "$EndMeshFormat", "$Nodes", "20"]
+        .into_iter()
+        .map(String::from)
+        .collect::<Vec<_>>();
+    l.extend((0..20).map(|k| format!("{} {k} {} 0.5", tag(k), k % 3)));
+    l.extend(["$EndNodes".into(), "$Elements".into(), "4".into()]);
+    let row = |n: usize, ty: usize, nodes: &[usize]| {
+        let tags: Vec<String> = nodes.iter().map(|&k| tag(k).to_string()).collect();
+        format!("{n} {ty} 2 1 1 {}", tags.join(" "))
+    };
+    let (tet, tet10, hex20) = ([3, 1, 4, 0], [9, 8, 7, 6, 5, 4, 3, 2, 1, 0], (0..20).rev());
+    let hex20: Vec<usize> = hex20.collect();
+    l.push(row(1, 4, &tet));
+    l.push(row(2, 2, &[2, 5]).replace(" 185", " 185 999"));
+    l.push(row(3, 11, &tet10));
+    l.push(row(4, 17, &hex20));
+    l.push("$EndElements".into());
+    let text = l.join("\n") + "\n";
+    let d = read(text.as_bytes(), "t.msh").unwrap();
+    let cells = &d.cells;
+    assert_eq!(cells.types, [10, 5, 24, 25]);
+    assert_eq!(cells.nodes(0), [3, 1, 4, 0]);
+    assert_eq!(
+        cells.nodes(1),
+        [2, 5, 0],
+        "the unknown tag 999 becomes node 0"
+    );
+    assert_eq!(
+        cells.nodes(2),
+        [9, 8, 7, 6, 5, 4, 3, 2, 0, 1],
+        "VTK's last two swapped"
+    );
+    // VTK's node i is Gmsh's node ORDER[i] (edges by first corner in Gmsh, around in VTK).
+    const ORDER: [usize; 20] = [
+        0, 1, 2, 3, 4, 5, 6, 7, 8, 11, 13, 9, 16, 18, 19, 17, 10, 12, 14, 15,
+    ];
+    let want: Vec<u32> = ORDER.iter().map(|&g| hex20[g] as u32).collect();
+    assert_eq!(cells.nodes(3), want);
+
+    // Two tetrahedra with unknown tags: the first one (element 3, line 31) is reported.
+    let mut bad = l.clone();
+    bad[30] = row(3, 4, &[1, 2, 3, 4]).replace(" 191", " 998");
+    bad[31] = row(4, 4, &[1, 2, 3, 4]).replace(" 194", " 997");
+    let e = read((bad.join("\n") + "\n").as_bytes(), "t.msh").unwrap_err();
+    assert_eq!(e.line, 31, "{e}");
+    assert!(
+        e.to_string()
+            .contains("element 3 refers to node tag 998, which $Nodes does not define"),
+        "{e}"
+    );
+}
