@@ -202,8 +202,12 @@ fn draw_fan_avx2(d: &FanDraw, buf: &mut SpanBuffer, acc: &mut [([f64; 3], f64)])
     draw_fan_body::<LANES, { FanShade::Avx2 as u8 }>(d, buf, acc)
 }
 
+/// The AVX-512 fan: its shading ([`Fan::shade_avx512`], a function of its own) in eight lanes,
+/// but the gathering of pixels and the compositing around it compiled for AVX2. Compiled for
+/// AVX-512 they were slower (the 150k `interpolateColor` frame's draw 95.2 ms against 86.3 ms
+/// on an Intel Xeon with AVX-512, docs/performance.md); the bits are the same.
 #[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
+#[target_feature(enable = "avx2")]
 fn draw_fan_avx512(d: &FanDraw, buf: &mut SpanBuffer, acc: &mut [([f64; 3], f64)]) -> u64 {
     draw_fan_body::<LANES, { FanShade::Avx512 as u8 }>(d, buf, acc)
 }
