@@ -4,7 +4,7 @@
 //! baseline, AVX2 and AVX-512 entry points of [`super::dispatch`], for that target's width.
 
 use super::buffer::SpanBuffer;
-use super::integrand::SpanPieces;
+use super::integrand::{SpanCell, SpanPieces};
 use super::shade::kernel_body;
 use crate::render::composite::{EARLY_TERMINATION, Order, composite};
 use crate::render::faces::{CellFaces, Row};
@@ -63,6 +63,35 @@ pub(super) fn draw_body<const WIDE: usize, const FMA: bool, const P: usize>(
     buf: &mut SpanBuffer,
     acc: Option<&mut [([f64; 3], f64)]>,
 ) -> u64 {
+    draw_body_with::<P>(d, buf, acc, |piece, buf| {
+        integrate_piece::<WIDE, FMA>(piece, buf)
+    })
+}
+
+/// Integrates one piece of a cell over the buffer's pixels, with the kernel for its clipping
+/// and projection.
+#[inline(always)]
+pub(super) fn integrate_piece<const WIDE: usize, const FMA: bool>(
+    piece: &SpanCell,
+    buf: &mut SpanBuffer,
+) {
+    match (piece.clip.is_some(), piece.rays.is_some()) {
+        (false, false) => kernel_body::<WIDE, false, false, FMA>(piece, buf),
+        (true, false) => kernel_body::<WIDE, true, false, FMA>(piece, buf),
+        (false, true) => kernel_body::<WIDE, false, true, FMA>(piece, buf),
+        (true, true) => kernel_body::<WIDE, true, true, FMA>(piece, buf),
+    }
+}
+
+/// [`draw_body`] with the integration of each piece given: inlined, or a call to a kernel
+/// compiled for other instructions than the gathering and compositing around it.
+#[inline(always)]
+pub(super) fn draw_body_with<const P: usize>(
+    d: &Draw,
+    buf: &mut SpanBuffer,
+    acc: Option<&mut [([f64; 3], f64)]>,
+    integrate: impl Fn(&SpanCell, &mut SpanBuffer),
+) -> u64 {
     let (cf, rect) = (d.faces, d.rect);
     // Only a per-pixel order (no `acc`) reads the runs' faces afterwards.
     let record = acc.is_none();
@@ -89,12 +118,7 @@ pub(super) fn draw_body<const WIDE: usize, const FMA: bool, const P: usize>(
         buf.reset();
     }
     for piece in d.pieces.pieces() {
-        match (piece.clip.is_some(), piece.rays.is_some()) {
-            (false, false) => kernel_body::<WIDE, false, false, FMA>(piece, buf),
-            (true, false) => kernel_body::<WIDE, true, false, FMA>(piece, buf),
-            (false, true) => kernel_body::<WIDE, false, true, FMA>(piece, buf),
-            (true, true) => kernel_body::<WIDE, true, true, FMA>(piece, buf),
-        }
+        integrate(piece, buf);
     }
     match acc {
         Some(acc) => composite_all(buf, acc, d.order),
