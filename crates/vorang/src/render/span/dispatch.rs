@@ -69,8 +69,12 @@ pub fn supported(k: Kernel) -> bool {
             std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma")
         }
         #[cfg(target_arch = "x86_64")]
+        // The AVX-512 kernels' gathering and compositing are compiled for AVX2 (every AVX-512
+        // processor has it; asked all the same, as the `unsafe` calls rely on it).
         Kernel::Avx512 => {
-            std::is_x86_feature_detected!("avx512f") && std::is_x86_feature_detected!("fma")
+            std::is_x86_feature_detected!("avx512f")
+                && std::is_x86_feature_detected!("avx2")
+                && std::is_x86_feature_detected!("fma")
         }
     }
 }
