@@ -5,7 +5,7 @@
 
 use super::buffer::SpanBuffer;
 use super::integrand::{SpanCell, SpanPieces};
-use super::shade::kernel_body;
+use super::shade::integrate_piece;
 use crate::render::composite::{EARLY_TERMINATION, Order, composite};
 use crate::render::faces::{CellFaces, Row};
 use crate::render::gouraud::{self, Fan};
@@ -66,21 +66,6 @@ pub(super) fn draw_body<const WIDE: usize, const FMA: bool, const P: usize>(
     draw_body_with::<P>(d, buf, acc, |piece, buf| {
         integrate_piece::<WIDE, FMA>(piece, buf)
     })
-}
-
-/// Integrates one piece of a cell over the buffer's pixels, with the kernel for its clipping
-/// and projection.
-#[inline(always)]
-pub(super) fn integrate_piece<const WIDE: usize, const FMA: bool>(
-    piece: &SpanCell,
-    buf: &mut SpanBuffer,
-) {
-    match (piece.clip.is_some(), piece.rays.is_some()) {
-        (false, false) => kernel_body::<WIDE, false, false, FMA>(piece, buf),
-        (true, false) => kernel_body::<WIDE, true, false, FMA>(piece, buf),
-        (false, true) => kernel_body::<WIDE, false, true, FMA>(piece, buf),
-        (true, true) => kernel_body::<WIDE, true, true, FMA>(piece, buf),
-    }
 }
 
 /// [`draw_body`] with the integration of each piece given: inlined, or a call to a kernel

@@ -2,11 +2,10 @@
 //! compiled with AVX2 or AVX-512 and fused multiply-adds, the widest the processor has, chosen
 //! once ([`kernel`]). [`draw`] and [`draw_fan`], what the tile loop calls, go through here.
 
-use super::body::{
-    Draw, FanDraw, FanShade, draw_body, draw_body_with, draw_fan_body, integrate_piece,
-};
+use super::body::{Draw, FanDraw, FanShade, draw_body, draw_body_with, draw_fan_body};
 use super::buffer::{LANES, SpanBuffer};
 use super::integrand::{SpanCell, SpanPieces};
+use super::shade::integrate_piece;
 use crate::render::composite::Order;
 use crate::render::faces::CellFaces;
 use crate::render::gouraud::Fan;

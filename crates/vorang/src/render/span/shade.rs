@@ -12,11 +12,20 @@ use crate::integrate::linear_lanes::{MAX_TERMS, madd, moments_with};
 /// compare every kernel there.)
 #[cfg(test)]
 pub(super) fn shade(cell: &SpanCell, buf: &mut SpanBuffer) {
+    integrate_piece::<LANES, false>(cell, buf)
+}
+
+/// [`kernel_body`] for `cell`'s clipping and projection, in batches of `WIDE` pixels.
+#[inline(always)]
+pub(super) fn integrate_piece<const WIDE: usize, const FMA: bool>(
+    cell: &SpanCell,
+    buf: &mut SpanBuffer,
+) {
     match (cell.clip.is_some(), cell.rays.is_some()) {
-        (false, false) => kernel_body::<LANES, false, false, false>(cell, buf),
-        (true, false) => kernel_body::<LANES, true, false, false>(cell, buf),
-        (false, true) => kernel_body::<LANES, false, true, false>(cell, buf),
-        (true, true) => kernel_body::<LANES, true, true, false>(cell, buf),
+        (false, false) => kernel_body::<WIDE, false, false, FMA>(cell, buf),
+        (true, false) => kernel_body::<WIDE, true, false, FMA>(cell, buf),
+        (false, true) => kernel_body::<WIDE, false, true, FMA>(cell, buf),
+        (true, true) => kernel_body::<WIDE, true, true, FMA>(cell, buf),
     }
 }
 
