@@ -182,7 +182,9 @@ impl<'a> Tokens<'a> {
     }
 
     /// The next whole number ≥ 0 of at most 18 digits, read as it is scanned (the token reader
-    /// reads the same value from it; any other token declines).
+    /// reads the same value from it; any other token declines). Not the token and then [`int`]:
+    /// scanning each row's numbers twice made the 4M-cell Gmsh ASCII load 4 % slower on two
+    /// threads (0.821 against 0.791 s, medians of 4 alternating runs).
     pub fn uint(&mut self) -> Option<u64> {
         self.skip_blank();
         let start = self.pos;

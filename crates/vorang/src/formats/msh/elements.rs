@@ -368,7 +368,9 @@ impl Sections {
             if let Some(order) = order
                 && cell.len() == order.len()
             {
-                let gmsh = cell.to_vec();
+                // The Gmsh order kept on the stack (27 nodes at most: `vtk_order`).
+                let mut gmsh = [0u32; 27];
+                gmsh[..cell.len()].copy_from_slice(cell);
                 for (n, &k) in cell.iter_mut().zip(order) {
                     *n = gmsh[k];
                 }
